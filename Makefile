@@ -1,0 +1,110 @@
+# MAC4 firmware, EPROM images and card emulator.  See README.md.
+#   make          EPROM images for INC, SSI, STP and build/mac4sim
+#   make demo     boot the emulated MAC4-INC and show what a host sees
+#   make test     unit tests (native) and system tests (image in the emulator)
+#   make deps     install/fetch what the build needs (the others do it too)
+
+CROSS   ?= m68k-linux-gnu-
+CC68    := $(CROSS)gcc
+OBJCOPY68 := $(CROSS)objcopy
+SIZE68  := $(CROSS)size
+HOSTCC  ?= cc
+PYTHON  ?= python3
+B       := build
+
+CARDS   := inc ssi stp
+card_inc := 0
+card_ssi := 1
+card_stp := 2
+
+FW_SRCS  := $(wildcard firmware/*.c)
+TGT_SRCS := hal/target/hal_target.c hal/target/runtime.c
+TGT_ASM  := hal/target/crt0.S hal/target/vectors.S
+FW_HDRS  := $(wildcard firmware/*.h hal/*.h hal/target/*.h)
+
+WARN     := -Wall -Wextra -Werror -Wconversion -Wshadow -Wstrict-prototypes -Wmissing-prototypes
+CFLAGS68 := -m68000 -ffreestanding -nostdlib -fno-pic -fno-builtin -std=c11 -O2 \
+            -fstack-usage -ffunction-sections $(WARN) -Ihal -Ihal/target -Ifirmware -DHAL_TARGET
+LDFLAGS68 := -m68000 -nostdlib -static -T linker/mac4.ld -Wl,--gc-sections -Wl,--build-id=none -Wl,--fatal-warnings
+
+HOSTWARN := -Wall -Wextra -Werror
+HOSTCFLAGS := -std=gnu11 -O2 -g $(HOSTWARN)
+
+MUS      := $(B)/deps/musashi
+MUSOBJ   := $(B)/musashi/m68kcpu.o $(B)/musashi/m68kops.o $(B)/musashi/m68kdasm.o $(B)/musashi/softfloat.o
+MUSCFLAGS := -std=gnu99 -O2 -g -w -I$(MUS) -Iharness -Ihal -DMUSASHI_CNF='"musashi_cnf.h"'
+
+HARNESS_SRCS := harness/sim.c harness/bus.c harness/periph.c harness/host.c harness/run.c \
+                harness/script.c harness/cpu_m68k.c harness/mac4sim.c
+HARNESS_HDRS := $(wildcard harness/*.h) hal/mac4_map.h
+
+IMAGES := $(foreach c,$(CARDS),$(B)/eprom/mac4-$(c).bin)
+
+.PHONY: all deps demo test unit system clean images
+all: images $(B)/mac4sim
+
+deps: $(MUS)/.stamp
+$(MUS)/.stamp: tools/bootstrap.sh tools/deps/pypi.txt
+	@BUILD=$(B) CROSS=$(CROSS) tools/bootstrap.sh
+
+images: $(IMAGES)
+
+# ---- firmware for the 68000, one build directory per card -------------
+define CARD_RULES
+$(B)/fw-$(1)/%.o: firmware/%.c $(FW_HDRS) | $(MUS)/.stamp
+	@mkdir -p $$(@D)
+	@echo "  CC68    $$@"; $$(CC68) $$(CFLAGS68) -DMAC4_CARD=$(card_$(1)) -c $$< -o $$@
+$(B)/fw-$(1)/hal_%.o: hal/target/%.c $(FW_HDRS) | $(MUS)/.stamp
+	@mkdir -p $$(@D)
+	@echo "  CC68    $$@"; $$(CC68) $$(CFLAGS68) -DMAC4_CARD=$(card_$(1)) -c $$< -o $$@
+$(B)/fw-$(1)/asm_%.o: hal/target/%.S hal/mac4_map.h | $(MUS)/.stamp
+	@mkdir -p $$(@D)
+	$$(CC68) -m68000 -Ihal -c $$< -o $$@
+FW_OBJS_$(1) := $(patsubst firmware/%.c,$(B)/fw-$(1)/%.o,$(FW_SRCS)) \
+                $(patsubst hal/target/%.c,$(B)/fw-$(1)/hal_%.o,$(TGT_SRCS)) \
+                $(patsubst hal/target/%.S,$(B)/fw-$(1)/asm_%.o,$(TGT_ASM))
+$(B)/eprom/mac4-$(1).elf: $$(FW_OBJS_$(1)) linker/mac4.ld
+	@mkdir -p $$(@D)
+	$$(CC68) $$(LDFLAGS68) -Wl,-Map,$(B)/eprom/mac4-$(1).map $$(FW_OBJS_$(1)) -o $$@
+$(B)/eprom/mac4-$(1).bin: $(B)/eprom/mac4-$(1).elf tools/mkeprom.py
+	$$(OBJCOPY68) -O binary -j .vectors -j .text -j .data $$< $(B)/eprom/mac4-$(1).raw
+	$$(SIZE68) -A $$< > $(B)/eprom/mac4-$(1).sections
+	$$(PYTHON) tools/mkeprom.py $(B)/eprom/mac4-$(1).raw $(B)/eprom/mac4-$(1) \
+		--sections $(B)/eprom/mac4-$(1).sections
+endef
+$(foreach c,$(CARDS),$(eval $(call CARD_RULES,$(c))))
+
+# ---- Musashi, generated and compiled with our configuration -------------
+$(MUS)/m68kops.c: $(MUS)/.stamp
+	$(HOSTCC) -O2 -w -o $(MUS)/m68kmake $(MUS)/m68kmake.c
+	cd $(MUS) && ./m68kmake
+$(B)/musashi/m68kcpu.o: $(MUS)/m68kops.c harness/musashi_cnf.h
+	@mkdir -p $(@D)
+	$(HOSTCC) $(MUSCFLAGS) -c $(MUS)/m68kcpu.c -o $@
+$(B)/musashi/m68kops.o: $(MUS)/m68kops.c harness/musashi_cnf.h
+	@mkdir -p $(@D)
+	$(HOSTCC) $(MUSCFLAGS) -c $(MUS)/m68kops.c -o $@
+$(B)/musashi/m68kdasm.o: $(MUS)/m68kops.c harness/musashi_cnf.h
+	@mkdir -p $(@D)
+	$(HOSTCC) $(MUSCFLAGS) -c $(MUS)/m68kdasm.c -o $@
+$(B)/musashi/softfloat.o: $(MUS)/m68kops.c
+	@mkdir -p $(@D)
+	$(HOSTCC) $(MUSCFLAGS) -c $(MUS)/softfloat/softfloat.c -o $@
+
+# ---- the emulator ----------------------------------------------------------
+$(B)/mac4sim: $(HARNESS_SRCS) $(HARNESS_HDRS) $(MUSOBJ)
+	$(HOSTCC) $(HOSTCFLAGS) -Iharness -Ihal -I$(MUS) -DMUSASHI_CNF='"musashi_cnf.h"' \
+		$(HARNESS_SRCS) $(MUSOBJ) -lm -o $@
+
+# ---- tests -----------------------------------------------------------------
+include tests/unit/unit.mk
+
+test: all unit system
+system: all
+	$(PYTHON) -m pytest -q tests/system
+
+demo: all
+	@tools/demo.sh
+
+clean:
+	rm -rf $(B)

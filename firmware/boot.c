@@ -1,0 +1,111 @@
+/*
+ * boot.c - reset and initialisation (manual 2.5.2 table 2.16, 4, 7.3.3).
+ * Display: $1 CPU initialised, $2 RAM test, $3 EPROM check sum, $5 ready.
+ * A failing step stops the card showing its digit with the decimal point.
+ */
+#include "fw.h"
+#include "hal.h"
+#include "crc16.h"
+#include "queue.h"
+#include "card.h"
+
+static void display(unsigned v)
+{
+    hal_wr16(SYS_DISPLAY, (uint16_t)v);
+    hal_wr32(DPC_BOOT_STATE, v);
+}
+
+void fw_halt(unsigned digit, uint32_t code)
+{
+    hal_irq_save();
+    hal_wr32(DPC_BOOT_ERROR, code);
+    display((digit & 0xFu) | SYS_DISPLAY_DP);
+    /* Stopped, but kept alive: the watchdog must not turn the error display
+     * into a reset loop, and the host can read the reason at $4004. */
+    hal_stop();
+}
+
+/* Pattern for a RAM word: depends on every address line of the 32 KiB
+ * SRAM (A1-A14) so that shorted or stuck address lines show up, not only
+ * stuck data bits; the second pass inverts every bit. */
+static uint16_t ram_pattern(uint32_t a) { return (uint16_t)((a >> 1) ^ 0x5A3Cu); }
+
+/* Returns 0 or the first failing address. Uses no static data. */
+static uint32_t ram_test(uint32_t base, uint32_t size)
+{
+    for (int pass = 0; pass < 2; pass++) {
+        uint16_t flip = pass ? 0xFFFFu : 0;
+        for (uint32_t a = base; a < base + size; a += 2)
+            hal_wr16(a, (uint16_t)(ram_pattern(a) ^ flip));
+        hal_wr16(WDG_KICK, 0);
+        for (uint32_t a = base; a < base + size; a += 2)
+            if (hal_rd16(a) != (uint16_t)(ram_pattern(a) ^ flip))
+                return a;
+        hal_wr16(WDG_KICK, 0);
+    }
+    return 0;
+}
+
+int fw_boot_stage1(void)
+{
+    hal_wr16(WDG_KICK, 0);
+    hal_copy_vectors();
+    /* The card's part of the host area starts from zero: counters, status,
+     * interlock flags and stop bits (manual 3.1); the queues follow later. */
+    for (uint32_t a = DP_HOST_AREA; a < DP_CMD_QUEUE; a += 4)
+        hal_wr32(a, 0);
+    display(1);
+    display(2);
+    uint32_t bad = ram_test(SRAM_BASE, SRAM_SIZE);
+    if (bad) {
+        hal_wr32(DPC_RAM_BAD_ADDR, bad);
+        fw_halt(2, DPC_ERR_RAM);
+    }
+    return 0;
+}
+
+static int eprom_checksum_ok(void)
+{
+    crc16_init_table();
+    uint16_t crc = CRC16_INIT;
+    for (uint32_t a = 0; a < EPROM_CRC_OFFSET; a += 2) {
+        uint16_t w = hal_rd16(EPROM_BASE + a);
+        crc = crc16_update(crc, (uint8_t)(w >> 8));
+        crc = crc16_update(crc, (uint8_t)w);
+        if ((a & 0x0FFFu) == 0)
+            hal_wr16(WDG_KICK, 0);
+    }
+    uint16_t stored = hal_rd16(EPROM_BASE + EPROM_CRC_OFFSET);
+    uint16_t inverse = hal_rd16(EPROM_BASE + EPROM_CRC_OFFSET + 2);
+    hal_wr32(DPC_CRC_EXPECTED, stored);
+    hal_wr32(DPC_CRC_COMPUTED, crc);
+    return crc == stored && (uint32_t)stored + inverse == 0xFFFFu;  /* inverse == ~stored */
+}
+
+static void write_banner(void)
+{
+    /* The banner stands in the element area at $4818 while the queue is
+     * empty (front == rear): host software polls for it, and the first
+     * response overwrites it (docs/interpretations.md). */
+    static const char banner[] = FW_BANNER;
+    for (unsigned i = 0; i < sizeof banner; i++)
+        hal_wr8(DP_RSP_QUEUE + Q_HEADER_SIZE + i, (uint8_t)banner[i]);
+}
+
+void fw_init(void)
+{
+    hal_wr32(DPC_BOOT_ERROR, DPC_ERR_NONE);
+    display(3);
+    if (!eprom_checksum_ok())
+        fw_halt(3, DPC_ERR_CHECKSUM);
+
+    card_reset();               /* outputs to reset state, default parameters */
+    hal_wr32(DPC_VERSION, FW_VER_WORD);
+
+    q_create(DP_CMD_QUEUE);
+    q_create(DP_RSP_QUEUE);
+    write_banner();
+    display(5);
+
+    card_start();               /* timer, serial line, interrupts on */
+}

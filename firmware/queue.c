@@ -1,0 +1,64 @@
+#include "queue.h"
+#include "hal.h"
+
+void q_create(uint32_t q)
+{
+    /* queueopen() of manual 7.3.2: executed by the card only. */
+    hal_wr32(q + QH_BASE, Q_HEADER_SIZE);
+    hal_wr32(q + QH_FRONT, 0);
+    hal_wr32(q + QH_REAR, 0);
+    hal_wr32(q + QH_FREE, 0);
+    hal_wr32(q + QH_WIDTH, Q_WIDTH);
+    hal_wr32(q + QH_NEL, Q_NEL);
+}
+
+/* The host may write anything into the header; the card trusts only the
+ * fixed values of table 7.1 and indices inside 0..nel-1, so no access can
+ * leave the element area. */
+int q_check(uint32_t q)
+{
+    if (hal_rd32(q + QH_BASE) != Q_HEADER_SIZE || hal_rd32(q + QH_WIDTH) != Q_WIDTH ||
+        hal_rd32(q + QH_NEL) != Q_NEL)
+        return Q_CORRUPT;
+    if (hal_rd32(q + QH_FRONT) >= Q_NEL || hal_rd32(q + QH_REAR) >= Q_NEL)
+        return Q_CORRUPT;
+    return 0;
+}
+
+static uint32_t q_elem(uint32_t q, uint32_t i) { return q + Q_HEADER_SIZE + i * Q_WIDTH; }
+
+int q_get(uint32_t q, mac4_msg_t *m)
+{
+    if (q_check(q))
+        return Q_CORRUPT;
+    uint32_t front = hal_rd32(q + QH_FRONT), rear = hal_rd32(q + QH_REAR);
+    if (front == rear)
+        return Q_EMPTY;
+    uint32_t e = q_elem(q, rear);
+    m->axis = hal_rd8(e + MSG_AXIS);
+    m->code = hal_rd16(e + MSG_CODE);
+    m->param = hal_rd32(e + MSG_PARAM);
+    m->source = hal_rd8(e + MSG_SOURCE);
+    hal_wr32(q + QH_REAR, q_next(rear, Q_NEL));
+    return Q_OK;
+}
+
+int q_put(uint32_t q, const mac4_msg_t *m)
+{
+    if (q_check(q))
+        return Q_CORRUPT;
+    uint32_t front = hal_rd32(q + QH_FRONT), rear = hal_rd32(q + QH_REAR);
+    uint32_t next = q_next(front, Q_NEL);
+    if (next == rear)
+        return Q_FULL;
+    uint32_t e = q_elem(q, front);
+    hal_wr8(e + MSG_AXIS, m->axis);
+    hal_wr8(e + MSG_AXIS + 1, 0);
+    hal_wr16(e + MSG_CODE, m->code);
+    hal_wr32(e + MSG_PARAM, m->param);
+    hal_wr8(e + MSG_SOURCE, m->source);
+    hal_wr8(e + MSG_SOURCE + 1, 0);
+    /* Element first, index last: the host never sees a half-written message. */
+    hal_wr32(q + QH_FRONT, next);
+    return Q_OK;
+}

@@ -1,0 +1,10 @@
+/* serial.h - the front-panel serial line (manual 3.3). */
+#ifndef SERIAL_H
+#define SERIAL_H
+#include "queue.h"
+
+void serial_reset(void);
+void serial_poll(void);                 /* main loop: decode received bytes */
+void serial_send(const mac4_msg_t *m);  /* a response as a telegram */
+
+#endif

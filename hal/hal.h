@@ -1,0 +1,36 @@
+/*
+ * hal.h - the only way the firmware touches the card.
+ *
+ * Addresses come from mac4_map.h.  On the 68000 (HAL_TARGET) the accessors
+ * are volatile loads and stores; on the host (HAL_NATIVE) they call the
+ * emulator's bus, so the same peripheral models serve both builds.
+ * Word and long accesses must be at even addresses (68000 rule).
+ */
+#ifndef HAL_H
+#define HAL_H
+
+#include <stdint.h>
+#include "mac4_map.h"
+
+#if defined(HAL_TARGET)
+#include "target/hal_target.h"
+#elif defined(HAL_NATIVE)
+#include "native/hal_native.h"
+#else
+#error "define HAL_TARGET or HAL_NATIVE"
+#endif
+
+/* Interrupt masking: returns the previous mask for hal_irq_restore(). */
+unsigned hal_irq_save(void);
+void hal_irq_restore(unsigned prev);
+void hal_irq_enable_all(void);
+
+/* Put the live vector table in place (target); nothing to do natively. */
+int hal_copy_vectors(void);
+
+/* Stop the card for good after a fatal boot error or fault: the target
+ * spins retriggering the watchdog so the error display stays; the native
+ * build returns control to the emulator. */
+void hal_stop(void) __attribute__((noreturn));
+
+#endif

@@ -1,0 +1,13 @@
+/* Host build: every access goes to the emulator's bus (harness/bus.c). */
+#ifndef HAL_NATIVE_H
+#define HAL_NATIVE_H
+#include <stdint.h>
+
+uint8_t hal_rd8(uint32_t a);
+uint16_t hal_rd16(uint32_t a);
+uint32_t hal_rd32(uint32_t a);
+void hal_wr8(uint32_t a, uint8_t v);
+void hal_wr16(uint32_t a, uint16_t v);
+void hal_wr32(uint32_t a, uint32_t v);
+
+#endif

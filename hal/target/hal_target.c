@@ -1,0 +1,35 @@
+/* 68000 side of hal.h: status-register access and the vector copy. */
+#include "hal.h"
+
+unsigned hal_irq_save(void)
+{
+    uint16_t sr;
+    __asm__ volatile("move.w %%sr, %0\n\tori.w #0x0700, %%sr" : "=d"(sr) : : "memory", "cc");
+    return sr;
+}
+
+void hal_irq_restore(unsigned prev)
+{
+    uint16_t sr = (uint16_t)prev;
+    __asm__ volatile("move.w %0, %%sr" : : "d"(sr) : "memory", "cc");
+}
+
+void hal_irq_enable_all(void)
+{
+    __asm__ volatile("andi.w #0xF8FF, %%sr" : : : "memory", "cc");
+}
+
+int hal_copy_vectors(void)
+{
+    /* The DPRAM holds the live vector table once the overlay is gone (3.1). */
+    for (uint32_t i = 0; i < 256; i++)
+        hal_wr32(DPRAM_VECTORS + 4 * i, hal_rd32(EPROM_BASE + 4 * i));
+    return 0;
+}
+
+void hal_stop(void)
+{
+    hal_irq_save();
+    for (;;)
+        hal_wr16(WDG_KICK, 0);
+}

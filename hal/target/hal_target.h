@@ -1,0 +1,13 @@
+/* 68000 register access: plain volatile word/long/byte moves. */
+#ifndef HAL_TARGET_H
+#define HAL_TARGET_H
+#include <stdint.h>
+
+static inline uint8_t hal_rd8(uint32_t a) { return *(volatile uint8_t *)a; }
+static inline uint16_t hal_rd16(uint32_t a) { return *(volatile uint16_t *)a; }
+static inline uint32_t hal_rd32(uint32_t a) { return *(volatile uint32_t *)a; }
+static inline void hal_wr8(uint32_t a, uint8_t v) { *(volatile uint8_t *)a = v; }
+static inline void hal_wr16(uint32_t a, uint16_t v) { *(volatile uint16_t *)a = v; }
+static inline void hal_wr32(uint32_t a, uint32_t v) { *(volatile uint32_t *)a = v; }
+
+#endif

@@ -1,0 +1,147 @@
+/*
+ * bus.c - the IPC's local bus as a table of regions (MAME-style address
+ * map).  68000 long accesses are two word cycles, high word first, as on
+ * the card's 16-bit bus.  Accesses outside every region, writes to the
+ * EPROM and byte writes to word-wide I/O registers are faults: reported
+ * with the PC, never ignored.
+ */
+#include <stdarg.h>
+#include <string.h>
+#include "sim.h"
+#include "periph.h"
+#include "cpu.h"
+
+void sim_fault(sim_t *s, const char *fmt, ...)
+{
+    char msg[256];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    s->faults++;
+    uint32_t pc = s->cpu_pc ? s->cpu_pc() : 0;
+    sim_printf(s, "fault %s pc=$%06X\n", msg, pc);
+}
+
+/* ---- memories ------------------------------------------------------------ */
+static uint32_t mem_rd(const uint8_t *m, uint32_t off, int size)
+{
+    return size == 1 ? m[off] : (uint32_t)(m[off] << 8 | m[off + 1]);
+}
+
+static void mem_wr(uint8_t *m, uint32_t off, uint32_t v, int size)
+{
+    if (size == 1) {
+        m[off] = (uint8_t)v;
+    } else {
+        m[off] = (uint8_t)(v >> 8);
+        m[off + 1] = (uint8_t)v;
+    }
+}
+
+static uint32_t dpram_rd(sim_t *s, uint32_t a, int size)
+{
+    if (s->sysctl & SYS_CTRL_OVERLAY)   /* boot overlay: EPROM at $000000 */
+        return mem_rd(s->eprom, a, size);
+    return mem_rd(s->dpram, a, size);
+}
+static void dpram_wr(sim_t *s, uint32_t a, uint32_t v, int size) { mem_wr(s->dpram, a, v, size); }
+static uint32_t eprom_rd(sim_t *s, uint32_t a, int size) { return mem_rd(s->eprom, a, size); }
+static void eprom_wr(sim_t *s, uint32_t a, uint32_t v, int size)
+{
+    (void)v;
+    (void)size;
+    sim_fault(s, "write to EPROM at $%06X", (unsigned)(EPROM_BASE + a));
+}
+static uint32_t sram_rd(sim_t *s, uint32_t a, int size)
+{
+    uint32_t v = mem_rd(s->sram, a, size);
+    if (s->sram_fault_mask && (a & ~1u) == s->sram_fault_addr)
+        v |= size == 1 ? (uint32_t)(s->sram_fault_mask >> ((a & 1) ? 0 : 8)) & 0xFF : s->sram_fault_mask;
+    return v;
+}
+static void sram_wr(sim_t *s, uint32_t a, uint32_t v, int size) { mem_wr(s->sram, a, v, size); }
+
+typedef struct {
+    uint32_t start, size;
+    const char *name;
+    uint32_t (*rd)(sim_t *, uint32_t off, int size);            /* size 1 or 2 */
+    void (*wr)(sim_t *, uint32_t off, uint32_t v, int size);
+    int word_io;                                                /* no byte writes */
+} region_t;
+
+static const region_t regions[] = {
+    {DPRAM_BASE, DPRAM_SIZE, "dpram", dpram_rd, dpram_wr, 0},
+    {EPROM_BASE, EPROM_SIZE, "eprom", eprom_rd, eprom_wr, 0},
+    {SRAM_BASE, SRAM_SIZE, "sram", sram_rd, sram_wr, 0},
+    {VME_WIN_BASE, VME_WIN_SIZE, "vme", vme_win_rd, vme_win_wr, 0},
+    {IO_BASE + 0x000, 0x10, "sys", sys_rd, sys_wr, 1},
+    {IO_BASE + 0x100, 0x10, "timer", tmr_rd, tmr_wr, 1},
+    {IO_BASE + 0x200, 0x10, "uart", uart_rd, uart_wr, 1},
+    {IO_BASE + 0x300, 0x10, "virq", virq_rd, virq_wr, 1},
+    {IO_BASE + 0x400, 0x02, "watchdog", wdg_rd, wdg_wr, 1},
+    {AXIS_BASE, MAC4_NAXES * AXIS_STRIDE, "axis", axis_rd, axis_wr, 1},
+    {AXIS_IRQ_PENDING, 0x02, "axis-irq", axis_irq_rd, axis_irq_wr, 1},
+};
+#define NREGIONS (sizeof regions / sizeof regions[0])
+
+static const region_t *find(uint32_t addr)
+{
+    for (unsigned i = 0; i < NREGIONS; i++)
+        if (addr - regions[i].start < regions[i].size)
+            return &regions[i];
+    return NULL;
+}
+
+static uint32_t rd1(sim_t *s, uint32_t addr, int size)
+{
+    const region_t *r = find(addr);
+    if (!r) {
+        sim_fault(s, "unmapped read%d at $%06X", size * 8, (unsigned)addr);
+        return size == 1 ? 0xFF : 0xFFFF;
+    }
+    uint32_t off = addr - r->start;
+    if (!r->word_io)
+        return r->rd(s, off, size);
+    /* I/O: a read may clear a flag (UART data, status), so re-evaluate IPL */
+    uint32_t w = r->rd(s, off & ~1u, 2);
+    sim_update_irq(s);
+    if (size == 1)   /* byte read of a word register */
+        return (off & 1) ? (w & 0xFF) : (w >> 8);
+    return w;
+}
+
+static void wr1(sim_t *s, uint32_t addr, uint32_t v, int size)
+{
+    const region_t *r = find(addr);
+    if (!r) {
+        sim_fault(s, "unmapped write%d at $%06X", size * 8, (unsigned)addr);
+        return;
+    }
+    if (r->word_io && size == 1) {
+        sim_fault(s, "byte write to word register at $%06X", (unsigned)addr);
+        return;
+    }
+    r->wr(s, addr - r->start, v, size);
+    if (r->word_io)
+        sim_update_irq(s);
+}
+
+uint32_t bus_read(sim_t *s, uint32_t addr, int size)
+{
+    addr &= 0xFFFFFF;                         /* 24 address lines */
+    if (size == 4)
+        return rd1(s, addr, 2) << 16 | rd1(s, (addr + 2) & 0xFFFFFF, 2);
+    return rd1(s, addr, size);
+}
+
+void bus_write(sim_t *s, uint32_t addr, uint32_t v, int size)
+{
+    addr &= 0xFFFFFF;
+    if (size == 4) {
+        wr1(s, addr, v >> 16, 2);
+        wr1(s, (addr + 2) & 0xFFFFFF, v & 0xFFFF, 2);
+        return;
+    }
+    wr1(s, addr, v, size);
+}

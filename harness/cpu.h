@@ -1,0 +1,24 @@
+/* cpu.h - what the scheduler needs from a CPU: the EPROM image on Musashi
+ * (cpu_m68k.c) or, later, the firmware compiled for the host. */
+#ifndef CPU_H
+#define CPU_H
+#include "sim.h"
+
+typedef struct {
+    const char *name;
+    void (*reset)(sim_t *s);                 /* hardware reset line */
+    cyc_t (*execute)(sim_t *s, cyc_t max);   /* run up to max cycles, return cycles used */
+    void (*set_irq)(int level);
+    int (*halted)(void);
+} cpu_t;
+
+extern const cpu_t cpu_m68k;
+
+/* run.c: the scheduler */
+void sim_attach_cpu(sim_t *s, const cpu_t *cpu);
+void sim_reset(sim_t *s, const char *why);
+void sim_run(sim_t *s, cyc_t cycles);
+void sim_update_irq(sim_t *s);
+extern int sim_halted;
+
+#endif

@@ -1,0 +1,144 @@
+/*
+ * cpu_m68k.c - Musashi as the IPC's 68000: memory callbacks onto the bus,
+ * interrupt acknowledge (autovectors) and RTE for the accounting, and the
+ * detection of exceptions the firmware did not expect (vector fetches that
+ * are not interrupt acknowledges), illegal opcodes and double bus faults.
+ */
+#include "m68k.h"
+#include "m68kcpu.h"
+#include "cpu.h"
+#include "periph.h"
+
+static int expect_vector;   /* an interrupt acknowledge precedes its vector fetch */
+static int in_slice;        /* m68k_cycles_run() is only meaningful inside m68k_execute */
+
+static cyc_t m68k_elapsed(void) { return in_slice ? (cyc_t)m68k_cycles_run() : 0; }
+static uint32_t m68k_pc(void) { return m68k_get_reg(NULL, M68K_REG_PPC); }
+
+static const char *vector_name(unsigned v)
+{
+    switch (v) {
+    case 2: return "bus error";
+    case 3: return "address error";
+    case 4: return "illegal instruction";
+    case 5: return "zero divide";
+    case 6: return "CHK";
+    case 7: return "TRAPV";
+    case 8: return "privilege violation";
+    case 9: return "trace";
+    case 10: return "line A";
+    case 11: return "line F";
+    case 24: return "spurious interrupt";
+    }
+    if (v >= 32 && v < 48)
+        return "TRAP";
+    return "unassigned vector";
+}
+
+static void check_vector_fetch(unsigned addr)
+{
+    if ((g_sim->sysctl & SYS_CTRL_OVERLAY) || addr >= 0x400)
+        return;
+    unsigned v = addr / 4;
+    if (expect_vector && v >= 25 && v <= 31) {
+        expect_vector = 0;
+        return;
+    }
+    sim_fault(g_sim, "exception %u (%s)", v, vector_name(v));
+}
+
+unsigned int m68k_read_memory_8(unsigned int a) { return bus_read(g_sim, a, 1); }
+unsigned int m68k_read_memory_16(unsigned int a) { return bus_read(g_sim, a, 2); }
+unsigned int m68k_read_memory_32(unsigned int a)
+{
+    if ((a & 0xFFFFFF) < 0x400)
+        check_vector_fetch(a & 0xFFFFFF);
+    return bus_read(g_sim, a, 4);
+}
+void m68k_write_memory_8(unsigned int a, unsigned int v) { bus_write(g_sim, a, v, 1); }
+void m68k_write_memory_16(unsigned int a, unsigned int v) { bus_write(g_sim, a, v, 2); }
+void m68k_write_memory_32(unsigned int a, unsigned int v) { bus_write(g_sim, a, v, 4); }
+
+/* The disassembler reads without side effects. */
+static unsigned peek(unsigned a, int size)
+{
+    a &= 0xFFFFFF;
+    const uint8_t *m;
+    unsigned off;
+    if (a - EPROM_BASE < EPROM_SIZE) { m = g_sim->eprom; off = a - EPROM_BASE; }
+    else if (a < DPRAM_SIZE) { m = (g_sim->sysctl & SYS_CTRL_OVERLAY) ? g_sim->eprom : g_sim->dpram; off = a; }
+    else if (a - SRAM_BASE < SRAM_SIZE) { m = g_sim->sram; off = a - SRAM_BASE; }
+    else return 0;
+    unsigned v = 0;
+    for (int i = 0; i < size; i++)
+        v = v << 8 | m[(off + (unsigned)i) & 0xFFFF];
+    return v;
+}
+unsigned int m68k_read_disassembler_8(unsigned int a) { return peek(a, 1); }
+unsigned int m68k_read_disassembler_16(unsigned int a) { return peek(a, 2); }
+unsigned int m68k_read_disassembler_32(unsigned int a) { return peek(a, 4); }
+
+int mac4_int_ack(int level)
+{
+    if (level == IRQ_LEVEL_ESTOP)
+        estop_irq_ack(g_sim);
+    irq_enter(g_sim, level);
+    expect_vector = 1;
+    return (int)M68K_INT_ACK_AUTOVECTOR;
+}
+
+void mac4_rte(void)
+{
+    /* Called before RTE's own 20 cycles are counted: add them. */
+    irq_leave(g_sim, 20);
+}
+
+int mac4_illegal(int opcode)
+{
+    sim_fault(g_sim, "illegal opcode $%04X", (unsigned)opcode & 0xFFFF);
+    return 0;   /* take the exception as the 68000 would */
+}
+
+void mac4_reset_instr(void) { /* RESET resets external devices only: none are wired */ }
+
+static void m68k_cpu_reset(sim_t *s)
+{
+    (void)s;
+    expect_vector = 0;
+    m68k_pulse_reset();
+}
+
+static cyc_t m68k_cpu_execute(sim_t *s, cyc_t max)
+{
+    (void)s;
+    if (max > 0x7FFFFFF)
+        max = 0x7FFFFFF;
+    in_slice = 1;
+    int ran = m68k_execute((int)max);
+    in_slice = 0;
+    return (cyc_t)ran;
+}
+
+static void m68k_cpu_set_irq(int level) { m68k_set_irq((unsigned)level); }
+static int m68k_cpu_halted(void) { return (m68ki_cpu.stopped & STOP_LEVEL_HALT) != 0; }
+
+static void m68k_cpu_attach(void)
+{
+    static int done;
+    if (done)
+        return;
+    done = 1;
+    m68k_init();
+    m68k_set_cpu_type(M68K_CPU_TYPE_68000);
+}
+
+static void m68k_reset_wrapper(sim_t *s)
+{
+    m68k_cpu_attach();
+    s->cpu_elapsed = m68k_elapsed;
+    s->cpu_pc = m68k_pc;
+    m68k_cpu_reset(s);
+}
+
+const cpu_t cpu_m68k = {"m68000 (Musashi)", m68k_reset_wrapper, m68k_cpu_execute, m68k_cpu_set_irq,
+                        m68k_cpu_halted};

@@ -1,0 +1,112 @@
+/*
+ * mac4sim - the emulated MAC4 card: boots the real EPROM image on a 68000
+ * and lets a host script (or a person) drive it.  docs/host-script.md.
+ */
+#include <libgen.h>
+#include <stdlib.h>
+#include <string.h>
+#include "cpu.h"
+#include "script.h"
+
+static sim_t card;
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "usage: mac4sim [options]\n"
+            "  --card inc|ssi|stp   card type (default inc)\n"
+            "  --image PATH         EPROM image (default: eprom/mac4-CARD.bin beside mac4sim)\n"
+            "  --script FILE        run host script FILE ('-' = stdin); default stdin\n"
+            "  --timestamps         prefix every event with the emulated time\n"
+            "  --irq-level N        VMEbus interrupt level of LB1/LB2 (1..7, default 3)\n"
+            "  --j11 in|out         watchdog reset jumper J11 (default in)\n"
+            "  --allow-faults       exit 0 even when the emulator saw faults\n"
+            "  --help               this text\n"
+            "Exit status: 0 ok, 1 usage or script error, 3 emulator faults seen.\n");
+}
+
+long script_code(const char *tok)
+{
+    char *end;
+    long v = strtol(tok, &end, 0);
+    if (end != tok && !*end && v >= 0 && v <= 0xFFFF)
+        return v;
+    return -1;
+}
+
+int main(int argc, char **argv)
+{
+    const char *cardname = "inc", *image = NULL, *script = "-";
+    int allow_faults = 0, timestamps = 0, level = 3, j11 = 1;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *val = (i + 1 < argc) ? argv[i + 1] : NULL;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            usage(stdout);
+            return 0;
+        } else if (!strcmp(a, "--card") && val) {
+            cardname = val;
+            i++;
+        } else if (!strcmp(a, "--image") && val) {
+            image = val;
+            i++;
+        } else if (!strcmp(a, "--script") && val) {
+            script = val;
+            i++;
+        } else if (!strcmp(a, "--irq-level") && val) {
+            level = atoi(val);
+            i++;
+        } else if (!strcmp(a, "--j11") && val) {
+            j11 = !strcmp(val, "in");
+            i++;
+        } else if (!strcmp(a, "--timestamps")) {
+            timestamps = 1;
+        } else if (!strcmp(a, "--allow-faults")) {
+            allow_faults = 1;
+        } else {
+            fprintf(stderr, "mac4sim: unknown or incomplete option '%s'\n", a);
+            usage(stderr);
+            return 1;
+        }
+    }
+    int cardno = !strcmp(cardname, "inc") ? MAC4_CARD_INC : !strcmp(cardname, "ssi") ? MAC4_CARD_SSI
+               : !strcmp(cardname, "stp") ? MAC4_CARD_STP : -1;
+    if (cardno < 0 || level < 1 || level > 7) {
+        fprintf(stderr, "mac4sim: bad --card or --irq-level\n");
+        return 1;
+    }
+    char defimg[4096];
+    if (!image) {
+        char self[2048];
+        snprintf(self, sizeof self, "%s", argv[0]);
+        snprintf(defimg, sizeof defimg, "%s/eprom/mac4-%s.bin", dirname(self), cardname);
+        image = defimg;
+    }
+
+    sim_init(&card, cardno);
+    card.timestamps = timestamps;
+    card.vme.level = (uint8_t)level;
+    card.wdg.j11 = j11;
+    int n = sim_load_image(&card, image);
+    if (n < 0) {
+        fprintf(stderr, "mac4sim: cannot load EPROM image '%s'%s\n", image,
+                n == -2 ? " (empty or larger than 64 KiB)" : "");
+        return 1;
+    }
+    sim_attach_cpu(&card, &cpu_m68k);
+
+    FILE *in = strcmp(script, "-") ? fopen(script, "r") : stdin;
+    if (!in) {
+        fprintf(stderr, "mac4sim: cannot open script '%s'\n", script);
+        return 1;
+    }
+    script_t sc = {script, 0, 0};
+    int errors = script_run(&sc, &card, in);
+    if (in != stdin)
+        fclose(in);
+    if (errors)
+        return 1;
+    if (card.faults && !allow_faults)
+        return 3;
+    return 0;
+}

@@ -1,0 +1,59 @@
+/*
+ * musashi_cnf.h - our configuration of the Musashi core (used through its
+ * MUSASHI_CNF hook instead of the shipped m68kconf.h): a plain 68000 with
+ * address errors, interrupt acknowledge and RTE reported to the emulator
+ * for the interrupt cycle accounting, and illegal opcodes reported.
+ */
+#ifndef MAC4_MUSASHI_CNF_H
+#define MAC4_MUSASHI_CNF_H
+
+#define OPT_OFF             0
+#define OPT_ON              1
+#define OPT_SPECIFY_HANDLER 2
+
+#define M68K_COMPILE_FOR_MAME       OPT_OFF
+#define M68K_EMULATE_010            OPT_OFF
+#define M68K_EMULATE_EC020          OPT_OFF
+#define M68K_EMULATE_020            OPT_OFF
+#define M68K_EMULATE_030            OPT_OFF
+#define M68K_EMULATE_040            OPT_OFF
+#define M68K_SEPARATE_READS         OPT_OFF
+#define M68K_SIMULATE_PD_WRITES     OPT_OFF
+
+int mac4_int_ack(int level);
+void mac4_rte(void);
+int mac4_illegal(int opcode);
+void mac4_reset_instr(void);
+
+#define M68K_EMULATE_INT_ACK        OPT_SPECIFY_HANDLER
+#define M68K_INT_ACK_CALLBACK(A)    mac4_int_ack(A)
+#define M68K_EMULATE_BKPT_ACK       OPT_OFF
+#define M68K_BKPT_ACK_CALLBACK()
+#define M68K_EMULATE_TRACE          OPT_OFF
+#define M68K_EMULATE_RESET          OPT_SPECIFY_HANDLER
+#define M68K_RESET_CALLBACK()       mac4_reset_instr()
+#define M68K_CMPILD_HAS_CALLBACK    OPT_OFF
+#define M68K_CMPILD_CALLBACK(v, r)
+#define M68K_RTE_HAS_CALLBACK       OPT_SPECIFY_HANDLER
+#define M68K_RTE_CALLBACK()         mac4_rte()
+#define M68K_TAS_HAS_CALLBACK       OPT_OFF
+#define M68K_TAS_CALLBACK()         1
+#define M68K_ILLG_HAS_CALLBACK      OPT_SPECIFY_HANDLER
+#define M68K_ILLG_CALLBACK(opcode)  mac4_illegal(opcode)
+#define M68K_EMULATE_FC             OPT_OFF
+#define M68K_SET_FC_CALLBACK(A)
+#define M68K_MONITOR_PC             OPT_OFF
+#define M68K_SET_PC_CALLBACK(A)
+#define M68K_INSTRUCTION_HOOK       OPT_OFF
+#define M68K_INSTRUCTION_CALLBACK(pc)
+#define M68K_EMULATE_PREFETCH       OPT_OFF
+#define M68K_EMULATE_ADDRESS_ERROR  OPT_ON
+#define M68K_ALINE_HOOK             OPT_OFF
+#define M68K_ALINE_CALLBACK()
+#define M68K_LOG_ENABLE             OPT_OFF
+#define M68K_LOG_1010_1111          OPT_OFF
+#define M68K_LOG_FILEHANDLE         stderr
+#define M68K_EMULATE_PMMU           OPT_OFF
+#define M68K_USE_64_BIT             OPT_ON
+
+#endif

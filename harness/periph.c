@@ -1,0 +1,402 @@
+/*
+ * periph.c - the IPC's peripherals and the axis interface board, each a
+ * small self-contained model with the register interface of mac4_map.h and
+ * its timing driven by the CPU cycle count.
+ */
+#include <string.h>
+#include "sim.h"
+#include "periph.h"
+
+static int estop_edge;   /* /STOP is wired to the edge-triggered level 7 (NMI) */
+
+/* ---- system control ------------------------------------------------------ */
+static void display_show(sim_t *s, uint16_t v)
+{
+    v &= 0x1F;
+    if (v == s->display)
+        return;
+    s->display = v;
+    sim_printf(s, "display %X%s\n", v & 0xF, (v & SYS_DISPLAY_DP) ? "." : "");
+}
+
+uint32_t sys_rd(sim_t *s, uint32_t off, int size)
+{
+    (void)size;
+    switch (off) {
+    case 0x0: return s->display;
+    case 0x2: return s->leds;
+    case 0x4: return s->sysctl;
+    case 0x6:
+        return (uint32_t)((s->estop ? SYS_ST_STOP : 0) | ((s->fc & 7u) << SYS_ST_FC_SHIFT) |
+                          (s->wdg.j11 ? SYS_ST_J11 : 0) | (s->in_reset_by_wdg ? SYS_ST_WDG_RESET : 0) |
+                          ((unsigned)(s->vme.level & 7u) << SYS_ST_LEVEL_SHIFT));
+    case 0x8: return (uint32_t)s->card;
+    }
+    sim_fault(s, "read of undefined system register +$%X", (unsigned)off);
+    return 0xFFFF;
+}
+
+void sys_wr(sim_t *s, uint32_t off, uint32_t v, int size)
+{
+    (void)size;
+    switch (off) {
+    case 0x0: display_show(s, (uint16_t)v); return;
+    case 0x2: s->leds = (uint16_t)v; return;
+    case 0x4: s->sysctl = (uint16_t)(v & SYS_CTRL_OVERLAY); return;
+    }
+    sim_fault(s, "write to read-only or undefined system register +$%X", (unsigned)off);
+}
+
+/* ---- periodic timer ------------------------------------------------------ */
+uint32_t tmr_rd(sim_t *s, uint32_t off, int size)
+{
+    (void)size;
+    cyc_t now = sim_now(s);
+    switch (off) {
+    case 0x0: return s->tmr.period_us;
+    case 0x2: return s->tmr.ctrl;
+    case 0x4: return s->tmr.status;
+    case 0x6: return (uint32_t)((now - s->tmr.last) / MAC4_CYCLES_PER_US) & 0xFFFF;
+    case 0x8: {
+        uint32_t us = (uint32_t)(now / MAC4_CYCLES_PER_US);
+        s->free_lo_latch = (uint16_t)us;
+        return us >> 16;
+    }
+    case 0xA: return s->free_lo_latch;
+    }
+    sim_fault(s, "read of undefined timer register +$%X", (unsigned)off);
+    return 0xFFFF;
+}
+
+void tmr_wr(sim_t *s, uint32_t off, uint32_t v, int size)
+{
+    (void)size;
+    cyc_t now = sim_now(s);
+    switch (off) {
+    case 0x0: s->tmr.period_us = (uint16_t)v; return;
+    case 0x2: {
+        int was = s->tmr.ctrl & TMR_CTRL_RUN;
+        s->tmr.ctrl = (uint16_t)v;
+        if (!(v & TMR_CTRL_RUN))
+            s->tmr.next = CYC_NEVER;
+        else if (!was && s->tmr.period_us) {
+            s->tmr.last = now;
+            s->tmr.next = now + US_TO_CYC(s->tmr.period_us);
+        }
+        return;
+    }
+    case 0x4: s->tmr.status &= (uint16_t)~v; return;   /* write 1 to acknowledge */
+    }
+    sim_fault(s, "write to undefined timer register +$%X", (unsigned)off);
+}
+
+static void tmr_event(sim_t *s, cyc_t now)
+{
+    while (s->tmr.next <= now) {
+        if (s->tmr.status & TMR_ST_EXPIRED)
+            sim_printf(s, "timer-overrun: tick %llu not acknowledged in time\n",
+                       (unsigned long long)(s->tmr.next / MAC4_CYCLES_PER_US));
+        s->tmr.status |= TMR_ST_EXPIRED;
+        s->tmr.last = s->tmr.next;
+        s->tmr.next += US_TO_CYC(s->tmr.period_us ? s->tmr.period_us : 1);
+    }
+}
+
+/* ---- UART, 4800 baud 8N1 ------------------------------------------------- */
+void uart_feed(sim_t *s, const uint8_t *bytes, unsigned n)
+{
+    uart_t *u = &s->uart;
+    for (unsigned i = 0; i < n; i++) {
+        unsigned next = (u->wire_head + 1) % UART_WIRE_SIZE;
+        if (next == u->wire_tail) {
+            sim_printf(s, "error serial input buffer of the emulator full\n");
+            return;
+        }
+        u->wire[u->wire_head] = bytes[i];
+        u->wire_head = next;
+    }
+    if (u->rx_done == CYC_NEVER && u->wire_head != u->wire_tail)
+        u->rx_done = sim_now(s) + UART_CHAR_CYC;
+}
+
+uint32_t uart_rd(sim_t *s, uint32_t off, int size)
+{
+    (void)size;
+    uart_t *u = &s->uart;
+    switch (off) {
+    case 0x0: u->rx_full = 0; return u->rx_hold;
+    case 0x2: {
+        uint32_t st = (u->rx_full ? UART_ST_RXRDY : 0) | (u->tx_busy ? 0 : UART_ST_TXEMPTY) |
+                      (u->overrun ? UART_ST_OVERRUN : 0) | (u->framing ? UART_ST_FRAMING : 0);
+        u->overrun = u->framing = 0;
+        return st;
+    }
+    case 0x4: return u->ctrl;
+    }
+    sim_fault(s, "read of undefined UART register +$%X", (unsigned)off);
+    return 0xFFFF;
+}
+
+void uart_wr(sim_t *s, uint32_t off, uint32_t v, int size)
+{
+    (void)size;
+    uart_t *u = &s->uart;
+    switch (off) {
+    case 0x0:
+        if (u->tx_busy) {
+            sim_fault(s, "UART transmit while busy: byte $%02X lost", (unsigned)(v & 0xFF));
+            return;
+        }
+        u->tx_busy = 1;
+        u->tx_shift = (uint8_t)v;
+        u->tx_done = sim_now(s) + UART_CHAR_CYC;
+        return;
+    case 0x4: u->ctrl = (uint16_t)v; return;
+    }
+    sim_fault(s, "write to undefined UART register +$%X", (unsigned)off);
+}
+
+static void uart_event(sim_t *s, cyc_t now)
+{
+    uart_t *u = &s->uart;
+    while (u->rx_done <= now) {
+        uint8_t b = u->wire[u->wire_tail];
+        u->wire_tail = (u->wire_tail + 1) % UART_WIRE_SIZE;
+        if (u->rx_full)
+            u->overrun = 1;          /* the new character is lost, as on a real UART */
+        else {
+            u->rx_hold = b;
+            u->rx_full = 1;
+        }
+        u->rx_done = (u->wire_head != u->wire_tail) ? u->rx_done + UART_CHAR_CYC : CYC_NEVER;
+    }
+    if (u->tx_busy && u->tx_done <= now) {
+        u->tx_busy = 0;
+        u->tx_done = CYC_NEVER;
+        if (u->on_tx)
+            u->on_tx(u->tx_ctx, u->tx_shift);
+    }
+}
+
+/* ---- VMEbus interrupter and master window -------------------------------- */
+uint32_t virq_rd(sim_t *s, uint32_t off, int size)
+{
+    (void)size;
+    switch (off) {
+    case 0x2: return (uint32_t)(s->vme.pending ? VIRQ_ST_PENDING : 0) | ((uint32_t)s->vme.level << 8);
+    case 0x4: return s->vme.page;
+    case 0x6: {
+        uint32_t st = s->vme.berr ? VME_ST_BERR : 0;
+        s->vme.berr = 0;
+        return st;
+    }
+    }
+    sim_fault(s, "read of undefined VME register +$%X", (unsigned)off);
+    return 0xFFFF;
+}
+
+void virq_wr(sim_t *s, uint32_t off, uint32_t v, int size)
+{
+    (void)size;
+    switch (off) {
+    case 0x0:
+        if (s->vme.pending) {
+            sim_fault(s, "VME interrupt vector $%02X written while one is pending", (unsigned)(v & 0xFF));
+            return;
+        }
+        s->vme.pending = 1;
+        s->vme.vector = (uint8_t)v;
+        s->vme.iack_at = sim_now(s) + US_TO_CYC(2);   /* the host's IACK cycle */
+        return;
+    case 0x4: s->vme.page = (uint16_t)(v & 0xF); return;
+    }
+    sim_fault(s, "write to undefined VME register +$%X", (unsigned)off);
+}
+
+/* No VME slave boards are modelled yet: every access times out, which the
+ * bus timer of the IPC turns into $FFFF and the BERR flag. */
+uint32_t vme_win_rd(sim_t *s, uint32_t off, int size)
+{
+    (void)off;
+    s->vme.berr = 1;
+    return size == 1 ? 0xFF : 0xFFFF;
+}
+
+void vme_win_wr(sim_t *s, uint32_t off, uint32_t v, int size)
+{
+    (void)off;
+    (void)v;
+    (void)size;
+    s->vme.berr = 1;
+}
+
+/* ---- hardware watchdog --------------------------------------------------- */
+uint32_t wdg_rd(sim_t *s, uint32_t off, int size)
+{
+    (void)off;
+    (void)size;
+    sim_fault(s, "read of the write-only watchdog register");
+    return 0xFFFF;
+}
+
+void wdg_wr(sim_t *s, uint32_t off, uint32_t v, int size)
+{
+    (void)off;
+    (void)v;
+    (void)size;
+    s->wdg.deadline = sim_now(s) + US_TO_CYC(WDG_TIMEOUT_US);
+}
+
+/* ---- emergency stop ------------------------------------------------------ */
+void estop_set(sim_t *s, int active)
+{
+    if (active && !s->estop)
+        estop_edge = 1;
+    s->estop = active;
+}
+int estop_irq_pending(sim_t *s) { (void)s; return estop_edge; }
+void estop_irq_ack(sim_t *s) { (void)s; estop_edge = 0; }
+
+/* ---- axis interface board ------------------------------------------------ */
+uint32_t axis_rd(sim_t *s, uint32_t off, int size)
+{
+    (void)size;
+    axis_hw_t *a = &s->ax[off / AXIS_STRIDE];
+    switch (off % AXIS_STRIDE) {
+    case AX_CNT_HI: a->cnt_lo_latch = (uint16_t)a->counter; return (a->counter >> 16) & 0xFF;
+    case AX_CNT_LO: return a->cnt_lo_latch;
+    case AX_IDX_HI: a->idx_lo_latch = (uint16_t)a->idx_latch; return (a->idx_latch >> 16) & 0xFF;
+    case AX_IDX_LO: return a->idx_lo_latch;
+    case AX_IN:
+        return (uint32_t)(a->in | (a->idx_latched ? AX_IN_IDX : 0) | (a->gray ? AX_IN_GRAY : 0));
+    case AX_CTRL: return a->ctrl;
+    case AX_SSI_HI: return (a->ssi >> 16) & 0x3FF;
+    case AX_SSI_LO: return a->ssi & 0xFFFF;
+    }
+    sim_fault(s, "read of undefined axis register +$%X", (unsigned)(off % AXIS_STRIDE));
+    return 0xFFFF;
+}
+
+void axis_wr(sim_t *s, uint32_t off, uint32_t v, int size)
+{
+    (void)size;
+    axis_hw_t *a = &s->ax[off / AXIS_STRIDE];
+    switch (off % AXIS_STRIDE) {
+    case AX_CTRL:
+        if (v & AX_CTRL_IDX_ARM)
+            a->idx_latched = 0;
+        if (v & AX_CTRL_CNT_CLR)
+            a->counter = 0;
+        a->ctrl = (uint16_t)(v & ~(uint32_t)(AX_CTRL_IDX_ARM | AX_CTRL_CNT_CLR));
+        return;
+    case AX_DAC:   /* AX_RATE on the STP board */
+        if (s->card == MAC4_CARD_STP)
+            a->rate = (uint16_t)v;
+        else   /* 12-bit two's complement converter: the upper bits are not wired */
+            a->dac = (int16_t)((int16_t)(uint16_t)(v << 4) >> 4);
+        return;
+    case AX_SSI_START: return;
+    }
+    sim_fault(s, "write to undefined axis register +$%X", (unsigned)(off % AXIS_STRIDE));
+}
+
+uint32_t axis_irq_rd(sim_t *s, uint32_t off, int size)
+{
+    (void)off;
+    (void)size;
+    uint32_t p = 0;
+    for (unsigned n = 0; n < MAC4_NAXES; n++)
+        if (s->ax[n].idx_latched && (s->ax[n].ctrl & AX_CTRL_IDX_IE))
+            p |= 1u << n;
+    return p;
+}
+
+void axis_irq_wr(sim_t *s, uint32_t off, uint32_t v, int size)
+{
+    (void)off;
+    (void)v;
+    (void)size;
+    sim_fault(s, "write to the read-only axis interrupt register");
+}
+
+/* ---- all models ---------------------------------------------------------- */
+void periph_reset(sim_t *s)
+{
+    s->display = 0xFF;     /* blank until the firmware writes */
+    s->leds = 0;
+    s->sysctl = SYS_CTRL_OVERLAY;
+    memset(&s->tmr, 0, sizeof s->tmr);
+    s->tmr.next = CYC_NEVER;
+    uart_t *u = &s->uart;
+    u->ctrl = 0;
+    u->rx_full = u->overrun = u->framing = 0;
+    u->tx_busy = 0;
+    u->tx_done = CYC_NEVER;
+    u->rx_done = (u->wire_head != u->wire_tail) ? sim_now(s) + UART_CHAR_CYC : CYC_NEVER;
+    s->vme.pending = 0;
+    s->vme.page = 0;
+    s->vme.berr = 0;
+    s->wdg.deadline = sim_now(s) + US_TO_CYC(WDG_TIMEOUT_US);
+    s->wdg.reset_pending = 0;
+    estop_edge = s->estop;   /* an active /STOP at reset is seen at once */
+    for (unsigned n = 0; n < MAC4_NAXES; n++) {
+        axis_hw_t *a = &s->ax[n];
+        a->ctrl = 0;        /* /EN open, DIR/BOOST open collector (tables 2.2, 2.6, 2.12) */
+        a->dac = 0;         /* 0 V */
+        a->rate = 0;
+        a->idx_latched = 0;
+    }
+}
+
+int sim_irq_level(sim_t *s)
+{
+    if (estop_edge)
+        return IRQ_LEVEL_ESTOP;
+    if ((s->tmr.status & TMR_ST_EXPIRED) && (s->tmr.ctrl & TMR_CTRL_IE))
+        return IRQ_LEVEL_TIMER;
+    if (axis_irq_rd(s, 0, 2))
+        return IRQ_LEVEL_AXIS;
+    if ((s->uart.ctrl & UART_CTRL_RXIE) && (s->uart.rx_full || s->uart.overrun))
+        return IRQ_LEVEL_UART;
+    if ((s->uart.ctrl & UART_CTRL_TXIE) && !s->uart.tx_busy)
+        return IRQ_LEVEL_UART;
+    return 0;
+}
+
+int sim_irq_source(int level)
+{
+    switch (level) {
+    case IRQ_LEVEL_ESTOP: return SRC_ESTOP;
+    case IRQ_LEVEL_TIMER: return SRC_TIMER;
+    case IRQ_LEVEL_AXIS: return SRC_AXIS;
+    case IRQ_LEVEL_UART: return SRC_UART;
+    }
+    return SRC_OTHER;
+}
+
+static cyc_t min_cyc(cyc_t a, cyc_t b) { return a < b ? a : b; }
+
+cyc_t periph_next_event(sim_t *s)
+{
+    cyc_t t = s->tmr.next;
+    t = min_cyc(t, s->uart.rx_done);
+    t = min_cyc(t, s->uart.tx_done);
+    if (s->vme.pending)
+        t = min_cyc(t, s->vme.iack_at);
+    if (s->wdg.j11)
+        t = min_cyc(t, s->wdg.deadline);
+    return t;
+}
+
+void periph_events(sim_t *s, cyc_t now)
+{
+    tmr_event(s, now);
+    uart_event(s, now);
+    if (s->vme.pending && s->vme.iack_at <= now) {
+        s->vme.pending = 0;
+        s->vme_irqs++;
+        sim_printf(s, "vme-irq %u %u\n", s->vme.level, s->vme.vector);
+    }
+    if (s->wdg.j11 && s->wdg.deadline <= now)
+        s->wdg.reset_pending = 1;
+}

@@ -1,0 +1,253 @@
+/*
+ * script.c - the host script language of mac4sim (docs/host-script.md).
+ * One command per line, '#' starts a comment.  Everything the card does
+ * that a host could see is printed as it happens (resp, display, vme-irq,
+ * rx, fault ...).
+ */
+#include <ctype.h>
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include "script.h"
+#include "cpu.h"
+#include "periph.h"
+
+#define MAXTOK 64
+
+/* Numbers: decimal (signed), 0x or $ hexadecimal. */
+static int parse_num(const char *t, long long *out)
+{
+    char *end;
+    errno = 0;
+    long long v;
+    if (t[0] == '$')
+        v = (long long)strtoull(t + 1, &end, 16);
+    else if (t[0] == '-' || t[0] == '+')
+        v = strtoll(t, &end, 0);
+    else
+        v = (long long)strtoull(t, &end, 0);
+    if (errno || end == t || *end)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+static int parse_ms(const char *t, cyc_t *out)
+{
+    char *end;
+    double ms = strtod(t, &end);
+    if (end == t || *end || ms < 0 || ms > 3.6e6)
+        return -1;
+    *out = (cyc_t)(ms * 16000.0 + 0.5);
+    return 0;
+}
+
+static int err(script_t *sc, const char *fmt, const char *arg)
+{
+    fprintf(stderr, "%s:%d: ", sc->name, sc->line);
+    fprintf(stderr, fmt, arg);
+    fputc('\n', stderr);
+    sc->errors++;
+    return -1;
+}
+
+static int dp_off(script_t *sc, const char *t, uint32_t *off, int align)
+{
+    long long v;
+    if (parse_num(t, &v) || v < 0 || v >= (long long)DPRAM_SIZE)
+        return err(sc, "bad DPRAM offset '%s' (0..0xFFFF)", t);
+    if (align > 1 && (v & 1))
+        return err(sc, "odd DPRAM offset '%s' for a word access", t);
+    *off = (uint32_t)v;
+    return 0;
+}
+
+static int cmd_send(script_t *sc, sim_t *s, char **tok, int n)
+{
+    long long axis, param = 0;
+    if (n < 3 || n > 4)
+        return err(sc, "usage: %s AXIS CODE [PARAM]", "send");
+    if (parse_num(tok[1], &axis) || axis < 0 || axis > 255)
+        return err(sc, "bad axis '%s' (0..255)", tok[1]);
+    long code = script_code(tok[2]);
+    if (code < 0)
+        return err(sc, "unknown code or mnemonic '%s'", tok[2]);
+    if (n == 4 && (parse_num(tok[3], &param) || param < -2147483648LL || param > 0xFFFFFFFFLL))
+        return err(sc, "bad parameter '%s' (32 bits)", tok[3]);
+    /* A real host waits while the queue is full: so do we, up to 1 s. */
+    for (int waited = 0;; waited++) {
+        int r = host_send(s, (uint8_t)axis, (uint16_t)code, (uint32_t)param, MSG_SRC_VME);
+        if (r == 1)
+            return 0;
+        if (r < 0)
+            return err(sc, "%s: command queue header unusable, not sent", "send");
+        if (waited >= 1000)
+            return err(sc, "%s: command queue full for 1 s, not sent", "send");
+        sim_run(s, MS_TO_CYC(1));
+    }
+}
+
+static void print_queue(sim_t *s, const char *name, uint32_t q)
+{
+    sim_printf(s, "queue %s $%04X base=$%X front=%u rear=%u free=%u width=$%X nel=$%X\n", name, q,
+               dp_rd32(s, q + QH_BASE), dp_rd32(s, q + QH_FRONT), dp_rd32(s, q + QH_REAR),
+               dp_rd32(s, q + QH_FREE), dp_rd32(s, q + QH_WIDTH), dp_rd32(s, q + QH_NEL));
+}
+
+static int on_off(const char *t) { return !strcmp(t, "on") || !strcmp(t, "1") || !strcmp(t, "in"); }
+
+int script_line(script_t *sc, sim_t *s, char *line)
+{
+    char *hash = strchr(line, '#');
+    if (hash)
+        *hash = 0;
+    char *tok[MAXTOK];
+    int n = 0;
+    for (char *p = strtok(line, " \t\r\n"); p && n < MAXTOK; p = strtok(NULL, " \t\r\n"))
+        tok[n++] = p;
+    if (n == 0)
+        return 0;
+    const char *c = tok[0];
+    long long v;
+    uint32_t off;
+    cyc_t cyc;
+
+    if (!strcmp(c, "send"))
+        return cmd_send(sc, s, tok, n);
+    if (!strcmp(c, "run")) {
+        if (n != 2 || parse_ms(tok[1], &cyc))
+            return err(sc, "usage: %s MS", "run");
+        sim_run(s, cyc);
+        return 0;
+    }
+    if (!strcmp(c, "peek8") || !strcmp(c, "peek16") || !strcmp(c, "peek32")) {
+        int w = c[4] == '8' ? 1 : c[4] == '1' ? 2 : 4;
+        if (n != 2 || dp_off(sc, tok[1], &off, w))
+            return n != 2 ? err(sc, "usage: %s ADDR", c) : -1;
+        uint32_t val = w == 1 ? s->dpram[off] : w == 2 ? dp_rd16(s, off) : dp_rd32(s, off);
+        sim_printf(s, "%s 0x%04X 0x%0*X\n", c, off, w * 2, val);
+        return 0;
+    }
+    if (!strcmp(c, "poke8") || !strcmp(c, "poke16") || !strcmp(c, "poke32")) {
+        int w = c[4] == '8' ? 1 : c[4] == '1' ? 2 : 4;
+        if (n != 3)
+            return err(sc, "usage: %s ADDR VALUE", c);
+        if (dp_off(sc, tok[1], &off, w))
+            return -1;
+        if (parse_num(tok[2], &v))
+            return err(sc, "bad value '%s'", tok[2]);
+        if (w == 1)
+            s->dpram[off] = (uint8_t)v;
+        else if (w == 2)
+            dp_wr16(s, off, (uint16_t)v);
+        else
+            dp_wr32(s, off, (uint32_t)v);
+        return 0;
+    }
+    if (!strcmp(c, "wait-display")) {
+        long long want, limit_ms = 5000;
+        if (n < 2 || n > 3 || parse_num(tok[1], &want) || (n == 3 && parse_num(tok[2], &limit_ms)))
+            return err(sc, "usage: %s DIGIT [MS]", c);
+        for (long long t = 0; t < limit_ms * 10; t++) {
+            if ((s->display & 0xF) == want && !(s->display & SYS_DISPLAY_DP))
+                return 0;
+            sim_run(s, US_TO_CYC(100));
+        }
+        sim_printf(s, "timeout wait-display %s\n", tok[1]);
+        return 0;
+    }
+    if (!strcmp(c, "queues")) {
+        print_queue(s, "command", DP_CMD_QUEUE);
+        print_queue(s, "response", DP_RSP_QUEUE);
+        return 0;
+    }
+    if (!strcmp(c, "banner")) {
+        char b[16];
+        unsigned i;
+        for (i = 0; i < sizeof b - 1 && s->dpram[DP_RSP_QUEUE + Q_HEADER_SIZE + i]; i++)
+            b[i] = (char)s->dpram[DP_RSP_QUEUE + Q_HEADER_SIZE + i];
+        b[i] = 0;
+        /* print the copyright sign (Latin-1 $A9) readably */
+        char *sign = strchr(b, (char)0xA9);
+        if (sign) {
+            *sign = 0;
+            sim_printf(s, "banner \"%s(C)%s\"\n", b, sign + 1);
+        } else {
+            sim_printf(s, "banner \"%s\"\n", b);
+        }
+        return 0;
+    }
+    if (!strcmp(c, "irqstats")) {
+        irq_print_table(s, s->out);
+        return 0;
+    }
+    if (!strcmp(c, "status")) {
+        cyc_t now = sim_now(s);
+        sim_printf(s, "status time=%.3fms cycles=%llu display=%X%s faults=%llu resets=%llu\n",
+                   (double)now / 16000.0, (unsigned long long)now, s->display & 0xF,
+                   (s->display & SYS_DISPLAY_DP) ? "." : "", (unsigned long long)s->faults,
+                   (unsigned long long)s->resets);
+        return 0;
+    }
+    if (!strcmp(c, "outputs")) {
+        for (int a = 0; a < MAC4_NAXES; a++)
+            sim_printf(s, "output %d en=%d dac=%d rate=%u dir=%d boost=%d\n", a,
+                       (s->ax[a].ctrl & AX_CTRL_EN) && !s->estop, s->ax[a].dac, s->ax[a].rate,
+                       !!(s->ax[a].ctrl & AX_CTRL_DIR), !!(s->ax[a].ctrl & AX_CTRL_BOOST));
+        return 0;
+    }
+    if (!strcmp(c, "leds")) {
+        sim_printf(s, "leds 0x%04X stop=%d\n", s->leds, s->estop);
+        return 0;
+    }
+    if (!strcmp(c, "host")) {
+        if (n != 3 || strcmp(tok[1], "read"))
+            return err(sc, "usage: %s read on|off", c);
+        s->host_reads = on_off(tok[2]);
+        return 0;
+    }
+    if (!strcmp(c, "estop")) {
+        if (n != 2)
+            return err(sc, "usage: %s on|off", c);
+        estop_set(s, on_off(tok[1]));
+        sim_update_irq(s);
+        return 0;
+    }
+    if (!strcmp(c, "fc")) {
+        if (n != 2 || parse_num(tok[1], &v) || v < 0 || v > 7)
+            return err(sc, "usage: %s 0..7", c);
+        s->fc = (uint8_t)v;
+        return 0;
+    }
+    if (!strcmp(c, "jumper")) {
+        if (n != 3 || strcmp(tok[1], "j11"))
+            return err(sc, "usage: %s j11 in|out", c);
+        s->wdg.j11 = on_off(tok[2]);
+        return 0;
+    }
+    if (!strcmp(c, "reset")) {
+        sim_reset(s, "button");
+        return 0;
+    }
+    if (!strcmp(c, "echo")) {   /* text for people: never timestamped */
+        for (int i = 1; i < n; i++)
+            fprintf(s->out, "%s%s", tok[i], i + 1 < n ? " " : "");
+        fprintf(s->out, "\n");
+        return 0;
+    }
+    if (!strcmp(c, "quit"))
+        return 1;
+    return err(sc, "unknown command '%s' (see docs/host-script.md)", c);
+}
+
+int script_run(script_t *sc, sim_t *s, FILE *in)
+{
+    char buf[1024];
+    while (fgets(buf, sizeof buf, in)) {
+        sc->line++;
+        int r = script_line(sc, s, buf);
+        if (r > 0)
+            break;
+    }
+    return sc->errors;
+}

@@ -1,0 +1,155 @@
+/*
+ * sim.h - the emulated MAC4 card: bus, peripheral models, scheduler,
+ * interrupt accounting and the VME host.  One card per process.
+ *
+ * Time is counted in 68000 clock cycles at 16 MHz.  The CPU backend
+ * (Musashi for the EPROM image, or the natively compiled firmware) runs in
+ * slices that end at the next peripheral event, so every model sees the
+ * cycle count at which the firmware touched it.
+ */
+#ifndef SIM_H
+#define SIM_H
+#include <stdint.h>
+#include <stdio.h>
+#include "mac4_map.h"
+
+typedef uint64_t cyc_t;
+#define CYC_NEVER UINT64_MAX
+#define US_TO_CYC(us) ((cyc_t)(us) * MAC4_CYCLES_PER_US)
+#define MS_TO_CYC(ms) ((cyc_t)(ms) * 1000u * MAC4_CYCLES_PER_US)
+/* 4800 baud, 8N1: 10 bit times per character. */
+#define UART_CHAR_CYC ((cyc_t)(MAC4_CPU_HZ * 10u / UART_BAUD))
+
+/* Interrupt sources, for the accounting table. */
+enum { SRC_UART, SRC_AXIS, SRC_TIMER, SRC_ESTOP, SRC_OTHER, SRC_COUNT };
+
+typedef struct {
+    uint64_t count;
+    cyc_t min, max, sum;           /* acknowledge to end of RTE, nested ISRs included */
+    cyc_t xmin, xmax, xsum;        /* the same without the time of nested ISRs */
+    cyc_t worst_at;                /* cycle count when the worst case started */
+} irqstat_t;
+
+typedef struct {
+    uint16_t period_us, ctrl, status;
+    cyc_t next;                    /* next expiry, CYC_NEVER when stopped */
+    cyc_t last;                    /* last expiry (TMR_COUNT) */
+} tmr_t;
+
+#define UART_WIRE_SIZE 8192
+typedef struct {
+    uint16_t ctrl;
+    uint8_t rx_hold;               /* receive holding register */
+    int rx_full, overrun, framing;
+    uint8_t wire[UART_WIRE_SIZE];  /* bytes on the line towards the card */
+    unsigned wire_head, wire_tail;
+    cyc_t rx_done;                 /* when the character on the wire is complete */
+    int tx_busy;
+    cyc_t tx_done;
+    uint8_t tx_shift;
+    void (*on_tx)(void *ctx, uint8_t byte);
+    void *tx_ctx;
+} uart_t;
+
+typedef struct {
+    uint8_t level;                 /* from LB1/LB2, table 2.1 */
+    int pending;
+    uint8_t vector;
+    cyc_t iack_at;
+    uint16_t page;
+    int berr;
+} vme_t;
+
+typedef struct {
+    int j11;                       /* jumper J11 in: the watchdog may reset the card */
+    cyc_t deadline;
+    int reset_pending;
+} wdg_t;
+
+typedef struct {
+    uint32_t counter;              /* 24-bit position counter */
+    uint16_t cnt_lo_latch;
+    uint32_t idx_latch;
+    uint16_t idx_lo_latch;
+    int idx_latched;
+    uint16_t in;                   /* switch inputs, AX_IN_* */
+    uint16_t ctrl;
+    int16_t dac;
+    uint16_t rate;
+    uint32_t ssi;                  /* last SSI shift register */
+    int gray;                      /* SSI jumper J1 open */
+} axis_hw_t;
+
+typedef struct sim {
+    int card;                      /* MAC4_CARD_* */
+    uint8_t dpram[DPRAM_SIZE];
+    uint8_t eprom[EPROM_SIZE];
+    uint8_t sram[SRAM_SIZE];
+    uint32_t sram_fault_addr;      /* fault injection: bits stuck at 1 in this word */
+    uint16_t sram_fault_mask;
+    uint16_t display, leds, sysctl;
+    int estop;                     /* /STOP active */
+    uint8_t fc;                    /* FC0-2 inputs */
+    tmr_t tmr;
+    uart_t uart;
+    vme_t vme;
+    wdg_t wdg;
+    axis_hw_t ax[MAC4_NAXES];
+    uint16_t free_lo_latch;
+
+    cyc_t slice_base;              /* cycle count at the start of the CPU slice */
+    cyc_t (*cpu_elapsed)(void);    /* cycles into the current slice */
+    int in_reset_by_wdg;
+    uint64_t resets;
+
+    /* interrupt accounting */
+    irqstat_t irq[SRC_COUNT];
+    struct { int src; cyc_t start, nested; } active[8];
+    int nactive;
+
+    /* faults the emulator saw: unmapped access, EPROM write, address error ... */
+    uint64_t faults;
+    uint32_t (*cpu_pc)(void);
+
+    /* the VME host model */
+    int host_reads;                /* host dequeues responses */
+    cyc_t host_next_poll;
+    uint64_t vme_irqs;
+
+    FILE *out;                     /* where events are printed */
+    int timestamps;
+} sim_t;
+
+extern sim_t *g_sim;
+
+/* bus.c */
+uint32_t bus_read(sim_t *s, uint32_t addr, int size);           /* size 1, 2 or 4 */
+void bus_write(sim_t *s, uint32_t addr, uint32_t v, int size);
+void sim_fault(sim_t *s, const char *fmt, ...);
+
+/* periph.c */
+void periph_reset(sim_t *s);
+cyc_t periph_next_event(sim_t *s);
+void periph_events(sim_t *s, cyc_t now);
+int sim_irq_level(sim_t *s);
+int sim_irq_source(int level);
+void uart_feed(sim_t *s, const uint8_t *bytes, unsigned n);
+
+/* sim.c */
+void sim_init(sim_t *s, int card);
+int sim_load_image(sim_t *s, const char *path);
+cyc_t sim_now(sim_t *s);
+void sim_printf(sim_t *s, const char *fmt, ...);
+void irq_enter(sim_t *s, int level);
+void irq_leave(sim_t *s, cyc_t extra);
+void irq_print_table(sim_t *s, FILE *f);
+
+/* host.c: the VME host's side of the DPRAM queues */
+uint32_t dp_rd32(sim_t *s, uint32_t off);
+uint16_t dp_rd16(sim_t *s, uint32_t off);
+void dp_wr32(sim_t *s, uint32_t off, uint32_t v);
+void dp_wr16(sim_t *s, uint32_t off, uint16_t v);
+int host_send(sim_t *s, uint8_t axis, uint16_t code, uint32_t param, uint8_t source);
+int host_poll_responses(sim_t *s);
+
+#endif

@@ -1,0 +1,14 @@
+# Native unit tests (cmocka), built with ASan and UBSan.  Included by Makefile.
+UNIT_TESTS := test_crc16 test_queue test_boot test_runtime
+SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+NATIVE_CFLAGS := -std=gnu11 -g -O1 -Wall -Wextra -Werror -Ihal -Ifirmware -Iharness -Ihal/target \
+                 -DHAL_NATIVE -DMAC4_CARD=0 $(SAN)
+NATIVE_SRCS := $(FW_SRCS) hal/native/hal_native.c hal/target/runtime.c \
+               harness/sim.c harness/bus.c harness/periph.c harness/host.c harness/run.c
+
+$(B)/unit/%: tests/unit/%.c tests/unit/unit_support.h $(NATIVE_SRCS) $(FW_HDRS) $(HARNESS_HDRS)
+	@mkdir -p $(@D)
+	$(HOSTCC) $(NATIVE_CFLAGS) $< $(NATIVE_SRCS) -lcmocka -o $@
+
+unit: $(addprefix $(B)/unit/,$(UNIT_TESTS))
+	@set -e; for t in $(UNIT_TESTS); do echo "== $$t"; $(B)/unit/$$t; done
