@@ -34,8 +34,9 @@ MUS      := $(B)/deps/musashi
 MUSOBJ   := $(B)/musashi/m68kcpu.o $(B)/musashi/m68kops.o $(B)/musashi/m68kdasm.o $(B)/musashi/softfloat.o
 MUSCFLAGS := -std=gnu99 -O2 -g -w -I$(MUS) -Iharness -Ihal -DMUSASHI_CNF='"musashi_cnf.h"'
 
-HARNESS_SRCS := harness/sim.c harness/bus.c harness/periph.c harness/host.c harness/run.c \
-                harness/script.c harness/cpu_m68k.c harness/mac4sim.c
+HARNESS_CORE := harness/sim.c harness/bus.c harness/periph.c harness/axisboard.c harness/host.c harness/run.c
+HARNESS_SRCS := $(HARNESS_CORE) \
+                harness/script.c harness/script_serial.c harness/script_plant.c harness/cpu_m68k.c harness/mac4sim.c
 HARNESS_HDRS := $(wildcard harness/*.h) hal/mac4_map.h
 
 IMAGES := $(foreach c,$(CARDS),$(B)/eprom/mac4-$(c).bin)

@@ -20,6 +20,11 @@ void axis_wr(sim_t *s, uint32_t off, uint32_t v, int size);
 uint32_t axis_irq_rd(sim_t *s, uint32_t off, int size);
 void axis_irq_wr(sim_t *s, uint32_t off, uint32_t v, int size);
 
+/* axisboard.c */
+void axisboard_reset(sim_t *s);
+cyc_t axisboard_next_event(sim_t *s);
+void axisboard_events(sim_t *s, cyc_t now);
+
 void estop_set(sim_t *s, int active);
 int estop_irq_pending(sim_t *s);
 void estop_irq_ack(sim_t *s);

@@ -15,7 +15,7 @@
 #define MAXTOK 64
 
 /* Numbers: decimal (signed), 0x or $ hexadecimal. */
-static int parse_num(const char *t, long long *out)
+int script_parse_num(const char *t, long long *out)
 {
     char *end;
     errno = 0;
@@ -42,7 +42,7 @@ static int parse_ms(const char *t, cyc_t *out)
     return 0;
 }
 
-static int err(script_t *sc, const char *fmt, const char *arg)
+int script_err(script_t *sc, const char *fmt, const char *arg)
 {
     fprintf(stderr, "%s:%d: ", sc->name, sc->line);
     fprintf(stderr, fmt, arg);
@@ -54,10 +54,10 @@ static int err(script_t *sc, const char *fmt, const char *arg)
 static int dp_off(script_t *sc, const char *t, uint32_t *off, int align)
 {
     long long v;
-    if (parse_num(t, &v) || v < 0 || v >= (long long)DPRAM_SIZE)
-        return err(sc, "bad DPRAM offset '%s' (0..0xFFFF)", t);
+    if (script_parse_num(t, &v) || v < 0 || v >= (long long)DPRAM_SIZE)
+        return script_err(sc, "bad DPRAM offset '%s' (0..0xFFFF)", t);
     if (align > 1 && (v & 1))
-        return err(sc, "odd DPRAM offset '%s' for a word access", t);
+        return script_err(sc, "odd DPRAM offset '%s' for a word access", t);
     *off = (uint32_t)v;
     return 0;
 }
@@ -66,23 +66,23 @@ static int cmd_send(script_t *sc, sim_t *s, char **tok, int n)
 {
     long long axis, param = 0;
     if (n < 3 || n > 4)
-        return err(sc, "usage: %s AXIS CODE [PARAM]", "send");
-    if (parse_num(tok[1], &axis) || axis < 0 || axis > 255)
-        return err(sc, "bad axis '%s' (0..255)", tok[1]);
+        return script_err(sc, "usage: %s AXIS CODE [PARAM]", "send");
+    if (script_parse_num(tok[1], &axis) || axis < 0 || axis > 255)
+        return script_err(sc, "bad axis '%s' (0..255)", tok[1]);
     long code = script_code(tok[2]);
     if (code < 0)
-        return err(sc, "unknown code or mnemonic '%s'", tok[2]);
-    if (n == 4 && (parse_num(tok[3], &param) || param < -2147483648LL || param > 0xFFFFFFFFLL))
-        return err(sc, "bad parameter '%s' (32 bits)", tok[3]);
+        return script_err(sc, "unknown code or mnemonic '%s'", tok[2]);
+    if (n == 4 && (script_parse_num(tok[3], &param) || param < -2147483648LL || param > 0xFFFFFFFFLL))
+        return script_err(sc, "bad parameter '%s' (32 bits)", tok[3]);
     /* A real host waits while the queue is full: so do we, up to 1 s. */
     for (int waited = 0;; waited++) {
         int r = host_send(s, (uint8_t)axis, (uint16_t)code, (uint32_t)param, MSG_SRC_VME);
         if (r == 1)
             return 0;
         if (r < 0)
-            return err(sc, "%s: command queue header unusable, not sent", "send");
+            return script_err(sc, "%s: command queue header unusable, not sent", "send");
         if (waited >= 1000)
-            return err(sc, "%s: command queue full for 1 s, not sent", "send");
+            return script_err(sc, "%s: command queue full for 1 s, not sent", "send");
         sim_run(s, MS_TO_CYC(1));
     }
 }
@@ -116,7 +116,7 @@ int script_line(script_t *sc, sim_t *s, char *line)
         return cmd_send(sc, s, tok, n);
     if (!strcmp(c, "run")) {
         if (n != 2 || parse_ms(tok[1], &cyc))
-            return err(sc, "usage: %s MS", "run");
+            return script_err(sc, "usage: %s MS", "run");
         sim_run(s, cyc);
         return 0;
     }
@@ -131,11 +131,11 @@ int script_line(script_t *sc, sim_t *s, char *line)
     if (!strcmp(c, "poke8") || !strcmp(c, "poke16") || !strcmp(c, "poke32")) {
         int w = c[4] == '8' ? 1 : c[4] == '1' ? 2 : 4;
         if (n != 3)
-            return err(sc, "usage: %s ADDR VALUE", c);
+            return script_err(sc, "usage: %s ADDR VALUE", c);
         if (dp_off(sc, tok[1], &off, w))
             return -1;
-        if (parse_num(tok[2], &v))
-            return err(sc, "bad value '%s'", tok[2]);
+        if (script_parse_num(tok[2], &v))
+            return script_err(sc, "bad value '%s'", tok[2]);
         if (w == 1)
             s->dpram[off] = (uint8_t)v;
         else if (w == 2)
@@ -146,8 +146,8 @@ int script_line(script_t *sc, sim_t *s, char *line)
     }
     if (!strcmp(c, "wait-display")) {
         long long want, limit_ms = 5000;
-        if (n < 2 || n > 3 || parse_num(tok[1], &want) || (n == 3 && parse_num(tok[2], &limit_ms)))
-            return err(sc, "usage: %s DIGIT [MS]", c);
+        if (n < 2 || n > 3 || script_parse_num(tok[1], &want) || (n == 3 && script_parse_num(tok[2], &limit_ms)))
+            return script_err(sc, "usage: %s DIGIT [MS]", c);
         for (long long t = 0; t < limit_ms * 10; t++) {
             if ((s->display & 0xF) == want && !(s->display & SYS_DISPLAY_DP))
                 return 0;
@@ -202,26 +202,26 @@ int script_line(script_t *sc, sim_t *s, char *line)
     }
     if (!strcmp(c, "host")) {
         if (n != 3 || strcmp(tok[1], "read"))
-            return err(sc, "usage: %s read on|off", c);
+            return script_err(sc, "usage: %s read on|off", c);
         s->host_reads = on_off(tok[2]);
         return 0;
     }
     if (!strcmp(c, "estop")) {
         if (n != 2)
-            return err(sc, "usage: %s on|off", c);
+            return script_err(sc, "usage: %s on|off", c);
         estop_set(s, on_off(tok[1]));
         sim_update_irq(s);
         return 0;
     }
     if (!strcmp(c, "fc")) {
-        if (n != 2 || parse_num(tok[1], &v) || v < 0 || v > 7)
-            return err(sc, "usage: %s 0..7", c);
+        if (n != 2 || script_parse_num(tok[1], &v) || v < 0 || v > 7)
+            return script_err(sc, "usage: %s 0..7", c);
         s->fc = (uint8_t)v;
         return 0;
     }
     if (!strcmp(c, "jumper")) {
         if (n != 3 || strcmp(tok[1], "j11"))
-            return err(sc, "usage: %s j11 in|out", c);
+            return script_err(sc, "usage: %s j11 in|out", c);
         s->wdg.j11 = on_off(tok[2]);
         return 0;
     }
@@ -237,7 +237,14 @@ int script_line(script_t *sc, sim_t *s, char *line)
     }
     if (!strcmp(c, "quit"))
         return 1;
-    return err(sc, "unknown command '%s' (see docs/host-script.md)", c);
+    /* command families that live beside their models */
+    static int (*const ext[])(script_t *, sim_t *, char **, int) = {script_serial, script_plant};
+    for (unsigned i = 0; i < sizeof ext / sizeof ext[0]; i++) {
+        int r = ext[i](sc, s, tok, n);
+        if (r != SCRIPT_NOT_MINE)
+            return r;
+    }
+    return script_err(sc, "unknown command '%s' (see docs/host-script.md)", c);
 }
 
 int script_run(script_t *sc, sim_t *s, FILE *in)

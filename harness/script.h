@@ -13,4 +13,14 @@ int script_line(script_t *sc, sim_t *s, char *line);   /* 1 on quit, -1 on error
 int script_run(script_t *sc, sim_t *s, FILE *in);      /* returns the error count */
 long script_code(const char *tok);                     /* code or mnemonic, -1 if unknown */
 
+/* helpers for command families in other files */
+int script_parse_num(const char *t, long long *out);  /* decimal, 0x or $ hex; 0 ok */
+int script_err(script_t *sc, const char *fmt, const char *arg);   /* returns -1 */
+
+/* Command families beside their models: return SCRIPT_NOT_MINE for a command
+ * they do not know, else 0 (done), 1 (quit) or -1 (error, via script_err). */
+#define SCRIPT_NOT_MINE (-2)
+int script_serial(script_t *sc, sim_t *s, char **tok, int n);   /* script_serial.c */
+int script_plant(script_t *sc, sim_t *s, char **tok, int n);    /* script_plant.c */
+
 #endif

@@ -4,7 +4,7 @@ SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-po
 NATIVE_CFLAGS := -std=gnu11 -g -O1 -Wall -Wextra -Werror -Ihal -Ifirmware -Iharness -Ihal/target \
                  -DHAL_NATIVE -DMAC4_CARD=0 $(SAN)
 NATIVE_SRCS := $(FW_SRCS) hal/native/hal_native.c hal/target/runtime.c \
-               harness/sim.c harness/bus.c harness/periph.c harness/host.c harness/run.c
+               $(HARNESS_CORE)
 
 $(B)/unit/%: tests/unit/%.c tests/unit/unit_support.h $(NATIVE_SRCS) $(FW_HDRS) $(HARNESS_HDRS)
 	@mkdir -p $(@D)
