@@ -123,7 +123,7 @@ int script_line(script_t *sc, sim_t *s, char *line)
     if (!strcmp(c, "peek8") || !strcmp(c, "peek16") || !strcmp(c, "peek32")) {
         int w = c[4] == '8' ? 1 : c[4] == '1' ? 2 : 4;
         if (n != 2 || dp_off(sc, tok[1], &off, w))
-            return n != 2 ? err(sc, "usage: %s ADDR", c) : -1;
+            return n != 2 ? script_err(sc, "usage: %s ADDR", c) : -1;
         uint32_t val = w == 1 ? s->dpram[off] : w == 2 ? dp_rd16(s, off) : dp_rd32(s, off);
         sim_printf(s, "%s 0x%04X 0x%0*X\n", c, off, w * 2, val);
         return 0;
