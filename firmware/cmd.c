@@ -32,15 +32,29 @@ void cmd_poll(void)
 {
     mac4_msg_t in, out;
     serial_poll();
-    int r = q_get(DP_CMD_QUEUE, &in);
-    if (r == Q_CORRUPT) {
-        if (!queue_bad)
-            hal_wr32(DPC_QUEUE_ERRORS, hal_rd32(DPC_QUEUE_ERRORS) + 1);
-        queue_bad = 1;
-        return;
+    /* One command per pass, alternating between the two interfaces so
+     * neither can starve the other. */
+    static uint8_t turn;
+    turn ^= 1u;
+    int have = 0;
+    if (turn)
+        have = serial_get(&in);
+    if (!have) {
+        int r = q_get(DP_CMD_QUEUE, &in);
+        if (r == Q_CORRUPT) {
+            if (!queue_bad)
+                hal_wr32(DPC_QUEUE_ERRORS, hal_rd32(DPC_QUEUE_ERRORS) + 1);
+            queue_bad = 1;
+        } else {
+            queue_bad = 0;
+            have = (r == Q_OK);
+            if (have)
+                in.source = MSG_SRC_VME;   /* a VME command is answered on the VMEbus */
+        }
     }
-    queue_bad = 0;
-    if (r != Q_OK)
+    if (!have && !turn)
+        have = serial_get(&in);
+    if (!have)
         return;
     cmd_execute(&in, &out);
     respond(&out);

@@ -37,6 +37,12 @@ void serial_poll(void)
     rx_tail = rx_head;
 }
 
+int serial_get(mac4_msg_t *m)
+{
+    (void)m;
+    return 0;
+}
+
 void serial_send(const mac4_msg_t *m)
 {
     (void)m;
