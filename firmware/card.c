@@ -1,22 +1,90 @@
 /*
  * card.c - reset state, the periodic tick and the main loop.
- * Data flows one way through a tick: position measurement -> (axis state
- * machine, profile, servo filter: later issues) -> outputs.
+ * Data flows one way through a tick: stop bits -> position measurement ->
+ * switches and protective reactions -> (profile, servo filter: later
+ * issues) -> outputs -> published axis data.
  */
 #include "fw.h"
 #include "hal.h"
 #include "card.h"
 #include "cmd.h"
+#include "params.h"
+#include "measure.h"
+#include "serial.h"
 
-axis_t axes[4];
+axis_t axes[MAC4_NAXES];
 uint32_t card_ostat;
+uint16_t card_err_report;
 uint32_t card_ticks;
+static volatile uint8_t estop_seen;   /* set by the level 7 handler */
 
 #if MAC4_CARD == MAC4_CARD_STP
 #define TICK_US SERVO_PERIOD_US_STP
 #else
 #define TICK_US SERVO_PERIOD_US_SERVO
 #endif
+
+/* ---- VMEbus interrupts (4.6) --------------------------------------------
+ * The interrupter holds one request until the host's IACK; more wait here. */
+#define VIRQ_FIFO 16u
+static uint8_t virq_fifo[VIRQ_FIFO];
+static uint8_t virq_head, virq_tail;
+
+void vme_irq(uint8_t vector)
+{
+    if (vector == 0)
+        return;                                   /* vector 0: interrupt off */
+    unsigned prev = hal_irq_save();
+    uint8_t next = (uint8_t)((virq_head + 1u) % VIRQ_FIFO);
+    if (next == virq_tail) {
+        hal_wr32(DPC_VME_IRQ_LOST, hal_rd32(DPC_VME_IRQ_LOST) + 1);
+    } else {
+        virq_fifo[virq_head] = vector;
+        virq_head = next;
+    }
+    vme_irq_service();
+    hal_irq_restore(prev);
+}
+
+void vme_irq_service(void)
+{
+    unsigned prev = hal_irq_save();
+    if (virq_tail != virq_head && !(hal_rd16(VIRQ_STATUS) & VIRQ_ST_PENDING)) {
+        hal_wr16(VIRQ_VECTOR, virq_fifo[virq_tail]);
+        virq_tail = (uint8_t)((virq_tail + 1u) % VIRQ_FIFO);
+    }
+    hal_irq_restore(prev);
+}
+
+/* ---- axis state ---------------------------------------------------------- */
+int axis_standstill(unsigned n)
+{
+    uint8_t m = axes[n].mode;
+    /* no profile generator yet: only the motion modes move an axis */
+    return m == M_DISABLE || m == M_ENABLE || m == M_BRAKE || m == M_TEST ||
+           (m == M_POSITIONING && (axes[n].ustat & UB(POS_END)));
+}
+
+void axis_set_mode(unsigned n, uint8_t mode)
+{
+    axis_t *x = &axes[n];
+    x->mode = mode;
+    x->ustat = (x->ustat & ~US_MODE_MASK) | mode;
+    if (mode == M_DISABLE)
+        x->ustat &= ~UB(DR_EN);
+    else
+        x->ustat |= UB(DR_EN);
+}
+
+void axis_disable(unsigned n) { axis_set_mode(n, M_DISABLE); }
+
+void axis_error(unsigned n, uint32_t ubit, uint16_t code)
+{
+    axes[n].ustat |= ubit;
+    axes[n].err_report = code;
+}
+
+void axis_init_measurement(unsigned n) { measure_init(n); }
 
 static void axis_outputs_reset(unsigned n)
 {
@@ -32,17 +100,23 @@ void card_reset(void)
 {
     hal_wr16(TMR_CTRL, 0);
     hal_wr16(UART_CTRL, 0);
+    params_reset();
     for (unsigned n = 0; n < MAC4_NAXES; n++) {
         axis_outputs_reset(n);
-        axes[n].ustat = 0;
-        axes[n].sstat = 0;
-        axes[n].pos = 0;
-        axes[n].counter = 0;
+        axis_t *x = &axes[n];
+        *x = (axis_t){0};
+        x->next_mode = NO_MODE;
+        x->ustat = UB(ON_FLY);                    /* on-fly after switch-on (5.15) */
+        axis_set_mode(n, M_DISABLE);
     }
-    hal_wr16(SYS_LEDS, 0x1111);   /* LED D on for every axis: all disabled */
+    hal_wr16(SYS_LEDS, 0x1111);                   /* LED D on for every axis */
     card_ostat = 0;
+    card_err_report = 0;
     card_ticks = 0;
+    estop_seen = 0;
+    virq_head = virq_tail = 0;
     cmd_reset();
+    serial_reset();
 }
 
 void card_start(void)
@@ -53,28 +127,172 @@ void card_start(void)
     hal_irq_enable_all();
 }
 
-static uint32_t read_counter(unsigned n)
-{
-    /* Reading the high word latches the low word (24-bit counter). */
-    uint32_t hi = hal_rd16(AX_REG(n, AX_CNT_HI));
-    uint32_t lo = hal_rd16(AX_REG(n, AX_CNT_LO));
-    return (hi << 16) | lo;
-}
-
 void card_profile_tick(void)
 {
     /* Profile generator: comes with the servo and stepper issues. */
 }
 
+/* ---- the tick ------------------------------------------------------------ */
+/* Switch inputs as configured (4.5): 0 off, 1 low active, 2 high active.
+ * AX_IN bits are 1 when the input is at 0 V. */
+static int switch_on(uint16_t in, uint16_t bit, int32_t cfg)
+{
+    if (cfg == 1)
+        return (in & bit) != 0;
+    if (cfg == 2)
+        return (in & bit) == 0;
+    return 0;
+}
+
+static void stop_bits(void)
+{
+    /* 3.5.1: bits 1, 3, 5, 7 at $4600; accepted in either byte of the word */
+    uint16_t w = hal_rd16(DP_STOP_BITS);
+    uint16_t bits = (uint16_t)((w | (w >> 8)) & 0xAAu);
+    if (!bits)
+        return;
+    for (unsigned n = 0; n < MAC4_NAXES; n++) {
+        if (!(bits & (2u << (2 * n))))
+            continue;
+        axis_t *x = &axes[n];
+        if (x->mode == M_TEST)
+            axis_disable(n);                      /* test mode: disable */
+        else if (x->mode != M_DISABLE) {
+            axis_set_mode(n, M_BRAKE);
+            x->next_mode = NO_MODE;
+        }
+    }
+    /* the card clears the bits it acted on, nothing else */
+    uint16_t now = hal_rd16(DP_STOP_BITS);
+    hal_wr16(DP_STOP_BITS, (uint16_t)(now & ~(bits | (uint16_t)(bits << 8))));
+}
+
+static void axis_inputs(unsigned n)
+{
+    axis_t *x = &axes[n];
+    uint16_t in = hal_rd16(AX_REG(n, AX_IN));
+    x->in = in;
+    if (MAC4_CARD == MAC4_CARD_SSI) {             /* J1 is readable from basic init on */
+        if (in & AX_IN_GRAY)
+            x->ustat |= UB(GRAY);
+        else
+            x->ustat &= ~UB(GRAY);
+    }
+    if (!axis_initialised(n))
+        return;                                   /* switches count after INIT (4.9) */
+    uint32_t sw = 0;
+    if (switch_on(in, AX_IN_IESP, PAR(n, PS)))
+        sw |= UB(HWL_P);
+    if (switch_on(in, AX_IN_IESN, PAR(n, NS)))
+        sw |= UB(HWL_N);
+    if (switch_on(in, AX_IN_RS, PAR(n, RS)))
+        sw |= UB(REF);
+    uint32_t prev = x->ustat;
+    x->ustat = (x->ustat & ~(UB(HWL_P) | UB(HWL_N) | UB(REF))) | sw;
+
+    if (switch_on(in, AX_IN_DF, PAR(n, DF)) && x->mode != M_DISABLE) {
+        axis_error(n, UB(DR_F), ERR_LOGICAL);     /* 6.3.4 drive fault */
+        axis_disable(n);                          /* the ramp comes with the servo issue */
+        vme_irq((uint8_t)PAR(n, IRQ3));
+    }
+    /* 5.13: a limit switch reached in test mode turns the axis off; it can
+     * then be driven out of the switch in test mode again (edge, not level) */
+    if (x->mode == M_TEST && (sw & ~prev & (UB(HWL_P) | UB(HWL_N))))
+        axis_disable(n);
+}
+
+static void axis_output(unsigned n)
+{
+    axis_t *x = &axes[n];
+    uint16_t ctrl = (uint16_t)(x->ctrl & ~AX_CTRL_EN);
+    int32_t out = 0;
+    if (x->mode != M_DISABLE)
+        ctrl |= AX_CTRL_EN;
+    if (x->mode == M_TEST)
+        out = PAR(n, DA);                       /* 5.13: straight out, USR has no effect */
+#if MAC4_CARD == MAC4_CARD_STP
+    if (x->sstat & SB(TURBO))
+        ctrl |= AX_CTRL_TURBO;
+    else
+        ctrl &= (uint16_t)~AX_CTRL_TURBO;
+    if (out < 0) {
+        ctrl |= AX_CTRL_DIR;
+        out = -out;
+    } else {
+        ctrl &= (uint16_t)~AX_CTRL_DIR;
+    }
+    /* rate register: 0.7629 Hz per LSB (table 4.1): 1/0.7629 = 21475/2^14
+     * within 0.005%; one MULU.W, no division */
+    if (out > 0xFFFF)
+        out = 0xFFFF;
+    out = (int32_t)(((uint32_t)(uint16_t)out * 21475u) >> 14);
+    if (out > 0xFFFF)
+        out = 0xFFFF;
+#endif
+    x->ctrl = ctrl;
+    x->out = (int16_t)out;
+    hal_wr16(AX_REG(n, AX_CTRL), ctrl);
+    hal_wr16(AX_REG(n, AX_DAC), (uint16_t)out);
+}
+
+static void publish(unsigned n)
+{
+    const axis_t *x = &axes[n];
+    uint32_t d = DP_AXIS_DATA(n);
+    hal_wr32(d + DPA_USTAT, x->ustat);
+    hal_wr32(d + DPA_SSTAT, x->sstat);
+    hal_wr32(d + DPA_POS, (uint32_t)x->pos);
+    hal_wr32(d + DPA_SETPOINT, (uint32_t)x->setpoint);
+    hal_wr32(d + DPA_FERR, (uint32_t)x->ferr);
+    hal_wr32(d + DPA_OUT, (uint32_t)(int32_t)x->out);
+    hal_wr32(d + DPA_VEL, (uint32_t)x->vel);
+    hal_wr32(d + DPA_RAW, x->raw);
+}
+
+static void leds(void)
+{
+    uint16_t l = 0;
+    for (unsigned n = 0; n < MAC4_NAXES; n++) {
+        if (axes[n].mode == M_DISABLE)
+            l |= (uint16_t)(SYS_LED_D << SYS_LED_SHIFT(n));
+        if (axes[n].ustat & UB(POS_END))
+            l |= (uint16_t)(SYS_LED_P << SYS_LED_SHIFT(n));
+        if (MAC4_CARD == MAC4_CARD_STP && (axes[n].ustat & US_ERRORS))
+            l |= (uint16_t)(SYS_LED_F << SYS_LED_SHIFT(n));
+    }
+    hal_wr16(SYS_LEDS, l);
+}
+
 void fw_isr_tick(void)
 {
     hal_wr16(TMR_STATUS, TMR_ST_EXPIRED);
-    for (unsigned n = 0; n < MAC4_NAXES; n++)
-        axes[n].counter = read_counter(n);
+    uint16_t sys = hal_rd16(SYS_STATUS);
+    card_ostat = (card_ostat & ~(uint32_t)(OB(FCODE0) | OB(FCODE1) | OB(FCODE2))) |
+                 ((uint32_t)((sys >> SYS_ST_FC_SHIFT) & 7u) << OS_FCODE0);
+    if (estop_seen) {                             /* 6.3.5: all axes, no ramp */
+        estop_seen = 0;
+        for (unsigned n = 0; n < MAC4_NAXES; n++)
+            axis_disable(n);
+    }
+    measure_start();
+    stop_bits();
+    for (unsigned n = 0; n < MAC4_NAXES; n++) {
+        measure_axis(n);
+        axis_inputs(n);
+        axis_output(n);
+    }
+    /* One axis' DPRAM data per tick: each is fresh every profile period
+     * (10 ms / 32 ms), at a quarter of the cost. */
+    unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
+    publish(phase);
     card_ticks++;
-    if ((card_ticks & (PROFILE_DIVIDER - 1u)) == 0)
+    if (phase == 0) {
         card_profile_tick();
+        leds();
+    }
     hal_wr32(DPC_TICKS, card_ticks);
+    hal_wr32(DPC_OSTAT, card_ostat);
+    vme_irq_service();
 }
 
 void fw_isr_axis(void)
@@ -89,15 +307,56 @@ void fw_isr_axis(void)
 
 void fw_isr_estop(void)
 {
-    /* Hardware has already opened every /EN (2.2.3); the firmware follows
-     * with mode "disable" on all axes (6.3.5) in the command issue. */
-    card_ostat |= 1u;
+    /* The hardware has already opened every /EN (2.2.3).  Here only what
+     * cannot wait: the report and the interrupt; the tick disables the
+     * axes in firmware state. */
+    estop_seen = 1;
+    card_ostat |= OB(H_STOP);
+    card_err_report = ERR_HSTOP;
+    vme_irq((uint8_t)PAR(0, IRQ5));
+}
+
+/* ---- main loop ----------------------------------------------------------- */
+static uint16_t shown = 0xFFFF;
+
+static void display_update(void)
+{
+    /* Table 2.16: the most serious condition wins. */
+    uint16_t d = 5;
+    int any_init = 0;
+    uint32_t all = 0;
+    for (unsigned n = 0; n < MAC4_NAXES; n++) {
+        any_init |= axis_initialised(n);
+        all |= axes[n].ustat;
+    }
+    if (any_init)
+        d = 0;
+    if (all & UB(SYN_F))
+        d = 9;
+    if (all & UB(LIMIT_F))
+        d = 7;
+    if (all & UB(LOGO_F))
+        d = 8;
+    if (all & UB(ENCODER_F))
+        d = 0xC;
+    if (card_ostat & OB(WATCH_F))
+        d = 0xD;
+    if (card_ostat & OB(H_STOP))
+        d = 0xE;
+    if (d != shown) {
+        shown = d;
+        hal_wr16(SYS_DISPLAY, d);
+        hal_wr32(DPC_BOOT_STATE, d);
+    }
 }
 
 void fw_main_step(void)
 {
-    hal_wr16(WDG_KICK, 0);
+    if (!cmd_mr_pending())
+        hal_wr16(WDG_KICK, 0);
     cmd_poll();
+    vme_irq_service();
+    display_update();
 }
 
 void fw_fault(uint16_t vector, uint32_t pc, uint16_t sr, uint32_t addr)

@@ -1,37 +1,472 @@
+/*
+ * cmd.c - command processing: queue or serial line -> decoder -> command
+ * table (commands.def) -> parameter store / mode change -> response.
+ *
+ * Order of the checks for a command (manual 3.4, 6.3):
+ *   1. axis number 4..255            -> 160, overall status, nothing else happens
+ *   2. code unknown on this card     -> 161
+ *   3. an error waits to be reported -> that code (163/164/165), not executed
+ *   4. read commands always run      -> the value
+ *   5. C acknowledges errors
+ *   6. an unacknowledged error       -> 163 (6.3.7)
+ *   7. the command itself            -> its code and the user status, or 162/163
+ */
 #include "fw.h"
 #include "hal.h"
 #include "card.h"
 #include "cmd.h"
+#include "params.h"
 #include "serial.h"
 
-static uint8_t queue_bad;   /* 1 while the command queue header is corrupt */
+/* ---- the command table -------------------------------------------------- */
+enum { CK_GEN_, CK_READ_, CK_MODE, CK_WPAR, CK_RPAR, CK_DIAG };
+#define CK_GEN CK_GEN_
+#define CK_READ CK_READ_
 
-void cmd_reset(void) { queue_bad = 0; }
+enum {
+#define GEN(mn, code, cards, kind, desc) CI_##mn,
+#define MODESEL(mn, code, cards, mode, desc) CI_##mn,
+#define DIAG(mn, code, cards, units, desc) CI_##mn,
+#define PARAM(id, mn, kind, wcode, cards, flags, min, max, def, units, desc) CI_W_##id, CI_R_##id,
+#include "commands.def"
+    NCMDS
+};
+
+typedef struct {
+    uint8_t kind;   /* CK_* */
+    uint8_t arg;    /* mode (CK_MODE) or parameter (CK_WPAR/CK_RPAR) */
+    uint8_t avail;  /* exists on this card */
+} cmd_t;
+
+static const cmd_t cmds[NCMDS] = {
+#define GEN(mn, code, cards, kind, desc) [CI_##mn] = {kind, 0, ON_THIS_CARD(cards)},
+#define MODESEL(mn, code, cards, mode, desc) [CI_##mn] = {CK_MODE, mode, ON_THIS_CARD(cards)},
+#define DIAG(mn, code, cards, units, desc) [CI_##mn] = {CK_DIAG, 0, ON_THIS_CARD(cards)},
+#define PARAM(id, mn, kind, wcode, cards, flags, min, max, def, units, desc)   \
+    [CI_W_##id] = {CK_WPAR, P_##id, ON_THIS_CARD(cards)}, \
+    [CI_R_##id] = {CK_RPAR, P_##id, ON_THIS_CARD(cards)},
+#include "commands.def"
+};
+
+/* Code -> table index.  A switch: no RAM, and a duplicate code in
+ * commands.def is a compile error. */
+static int cmd_find(uint16_t code)
+{
+    switch (code) {
+#define GEN(mn, code, cards, kind, desc) case code: return CI_##mn;
+#define MODESEL(mn, code, cards, mode, desc) case code: return CI_##mn;
+#define DIAG(mn, code, cards, units, desc) case code: return CI_##mn;
+#define PARAM(id, mn, kind, wcode, cards, flags, min, max, def, units, desc) \
+    case wcode: return CI_W_##id; case (wcode) + 1: return CI_R_##id;
+#include "commands.def"
+    default: return -1;
+    }
+}
+
+/* ---- state -------------------------------------------------------------- */
+static uint8_t queue_bad;       /* 1 while the command queue header is corrupt */
+static uint8_t last_valid_axis; /* for interrupt 2 of a false axis number (6.3.1) */
+static uint8_t mr_pending;      /* MR accepted: stop retriggering the watchdog */
+static uint32_t wd_last_us;     /* time of the last command, for <wd> */
+static uint8_t wd_fired;
+
+void cmd_reset(void)
+{
+    queue_bad = 0;
+    last_valid_axis = 0;
+    mr_pending = 0;
+    wd_fired = 0;
+    wd_last_us = 0;
+}
+
+int cmd_mr_pending(void) { return mr_pending; }
+
+static uint32_t now_us(void)
+{
+    uint32_t hi = hal_rd16(TMR_FREE_HI);   /* latches the low word */
+    return (hi << 16) | hal_rd16(TMR_FREE_LO);
+}
+
+/* ---- helpers ------------------------------------------------------------ */
+static int absolute_encoder(unsigned a)
+{
+    int32_t et = PAR(a, ET);
+    return et == 2 || et == 4;
+}
+
+/* Is a target position reachable on this axis (6.3.3)?  Uses the system
+ * parameters in force. */
+static int target_ok(unsigned a, int32_t t)
+{
+    int32_t sh = PAR(a, SH);
+    if (sh == 1) {
+        if (t < PAR(a, LN) || t > PAR(a, LP))
+            return 0;
+    } else if (t < 0 || t >= PAR(a, CR)) {
+        return 0;
+    }
+    if (absolute_encoder(a) && axis_initialised(a)) {
+        int64_t raw = (int64_t)t - PAR(a, AO);
+        int32_t ec = PAR(a, EC);
+        if (raw < 0 || (ec > 0 && raw >= ec))
+            return 0;
+    }
+    return 1;
+}
+
+/* Which encoder types each card has (table 4.2/4.3). */
+static int et_ok(int32_t et)
+{
+    switch (MAC4_CARD) {
+    case MAC4_CARD_INC: return et == 1 || et == 3 || et == 4;
+    case MAC4_CARD_SSI: return et >= 1 && et <= 4;
+    default: return et == 0 || et == 1 || et == 3 || et == 4;
+    }
+}
+
+static int system_change_allowed(unsigned a)
+{
+    return !axis_initialised(a) || axes[a].mode == M_DISABLE;
+}
+
+/* ---- parameter writes ---------------------------------------------------- */
+static int write_param(unsigned a, unsigned p, int32_t v)
+{
+    if (pdesc[p].kind == PK_SYS && !system_change_allowed(a))
+        return ERR_LOGICAL;
+    if (v < pdesc[p].min || v > pdesc[p].max)
+        return ERR_LIMIT;
+    switch (p) {
+    case P_ET:
+        if (!et_ok(v))
+            return ERR_LIMIT;
+        break;
+    case P_EC: {
+        int32_t sh = PAR_W(a, SH), et = PAR_W(a, ET);
+        if (sh != 1 && (et == 2 || et == 4))
+            return ERR_LOGICAL;   /* 6.3.7: not on circular axes with an absolute encoder */
+        break;
+    }
+    case P_AP:
+        if (!target_ok(a, v))
+            return ERR_LIMIT;
+        break;
+    case P_LV:
+        if (MAC4_CARD == MAC4_CARD_STP && v > PAR_W(a, SSF))
+            return ERR_LIMIT;     /* 4.8.3: not above the start/stop frequency */
+        break;
+    case P_ZP:
+        if (!axis_standstill(a))
+            return ERR_LOGICAL;   /* 6.3.7: position set only at stand-still */
+        if (axis_initialised(a)) {
+            /* <ao> such that the actual position becomes v (4.3.2) */
+            int32_t ao = (int32_t)((uint32_t)v - (uint32_t)axes[a].meas);
+            par_w[P_AO][a] = par_a[P_AO][a] = ao;
+            axes[a].pos = v;
+        }
+        axes[a].zp_value = v;
+        break;
+    default:
+        break;
+    }
+    int r = params_write(a, p, v);
+    if (r)
+        return r;
+    if (p == P_SSF && PAR_W(a, LV) > v) {   /* 4.8.3: <lv> follows a lower <ssf> */
+        par_w[P_LV][a] = v;
+        par_a[P_LV][a] = v;
+    }
+    return 0;
+}
+
+/* ---- mode changes (E) ---------------------------------------------------- */
+static int mode_change_check(unsigned a, uint8_t target)
+{
+    uint8_t cur = axes[a].mode;
+    if (target != M_DISABLE && !axis_initialised(a))
+        return ERR_LOGICAL;                       /* operation starts after INIT (4) */
+    switch (target) {
+    case M_DISABLE:
+    case M_RESET:
+        return 0;
+    case M_ENABLE:
+        return (cur == M_DISABLE || cur == M_ENABLE || cur == M_BRAKE || cur == M_TEST) ? 0 : ERR_LOGICAL;
+    case M_UE:
+        return (cur == M_DISABLE || cur == M_TEST || cur == M_RESET) ? ERR_LOGICAL : 0;
+    case M_BRAKE:
+        return cur == M_DISABLE ? ERR_LOGICAL : 0;
+    case M_TEST:
+        return (cur == M_DISABLE || cur == M_ENABLE || cur == M_TEST) ? 0 : ERR_LOGICAL;
+    default:
+        break;
+    }
+    /* motion modes: only from enable or brake (6.3.7), or a new target on-fly */
+    if (!(cur == M_ENABLE || cur == M_BRAKE || cur == target))
+        return ERR_LOGICAL;
+    switch (target) {
+    case M_SEARCH_IDX_C:
+    case M_SEARCH_IDX:
+    case M_HOME:
+        if (PAR(a, ET) != 1)
+            return ERR_LOGICAL;                   /* index needs the incremental encoder at P2 */
+        if (target == M_HOME && PAR(a, RS) == 0)
+            return ERR_LOGICAL;                   /* reference switch declared OFF */
+        break;
+    case M_FIND_EDGE: {
+        int32_t dl = PAR_W(a, DL);
+        int32_t cfg = dl == 0 ? PAR(a, RS) : dl == 1 ? PAR(a, NS) : PAR(a, PS);
+        if (cfg == 0)
+            return ERR_LOGICAL;                   /* that switch is declared OFF */
+        if (dl != 0 && PAR(a, SH) != 1)
+            return ERR_LOGICAL;                   /* circular axes: reference switch only */
+        break;
+    }
+    case M_POSITIONING:
+        if (!target_ok(a, PAR_W(a, AP)))
+            return ERR_LIMIT;
+        break;
+    default:
+        break;
+    }
+    return 0;
+}
+
+static int do_execute(unsigned a)
+{
+    uint8_t target = axes[a].next_mode;
+    if (target == NO_MODE)
+        target = axes[a].mode;
+    else if (target == M_BRAKE && axes[a].mode == M_TEST)
+        target = M_DISABLE;                       /* 3.5.1: test mode stops by disabling */
+    int r = mode_change_check(a, target);
+    if (r)
+        return r;
+    params_activate(a, PK_MODE);
+    axes[a].next_mode = NO_MODE;
+    /* pos_end, jus_end and LED P are cleared only by the next E (5.6) */
+    axes[a].ustat &= ~(UB(POS_END) | UB(JUS_END));
+    axes[a].sstat &= ~SB(IN_POS);
+    axis_set_mode(a, target == M_UE ? M_ENABLE : target);
+    return 0;
+}
+
+/* ---- general instructions ---------------------------------------------- */
+static int do_init(unsigned a)
+{
+    if (axes[a].mode != M_DISABLE)
+        return ERR_LOGICAL;
+    if (PAR_W(a, SH) == 1 && PAR_W(a, LP) <= PAR_W(a, LN))
+        return ERR_LIMIT;                         /* 4.3.1.1: <lp> > <ln> */
+    if (!et_ok(PAR_W(a, ET)))
+        return ERR_LIMIT;
+    params_activate(a, PK_SYS);
+    params_activate(a, PK_MODE);
+    axis_init_measurement(a);
+    axes[a].ustat |= UB(INIT);
+    axes[a].next_mode = NO_MODE;
+    return 0;
+}
+
+static int do_general(int ci, unsigned a, uint32_t p)
+{
+    switch (ci) {
+    case CI_INIT:
+        return do_init(a);
+    case CI_E:
+        return do_execute(a);
+    case CI_DEINIT:
+        axis_disable(a);
+        axes[a].ustat &= ~UB(INIT);
+        axes[a].next_mode = NO_MODE;
+        return 0;
+    case CI_MR:
+        if (!(hal_rd16(SYS_STATUS) & SYS_ST_J11))
+            return ERR_LOGICAL;                   /* 2.1.3: MR works only with J11 in */
+        mr_pending = 1;
+        return 0;
+    case CI_FLYON:
+        axes[a].ustat |= UB(ON_FLY);
+        return 0;
+    case CI_FLYOFF:
+        axes[a].ustat &= ~UB(ON_FLY);
+        return 0;
+    case CI_USR:
+    case CI_USN:
+        if (!system_change_allowed(a))
+            return ERR_LOGICAL;
+        if (ci == CI_USR)
+            axes[a].ustat |= UB(REV_O);
+        else
+            axes[a].ustat &= ~UB(REV_O);
+        return 0;
+    case CI_TURBO:
+        if (p > 1)
+            return ERR_LIMIT;
+        if (!axis_standstill(a))
+            return ERR_LOGICAL;
+        if (p)
+            axes[a].sstat |= SB(TURBO);
+        else
+            axes[a].sstat &= ~SB(TURBO);
+        return 0;
+    case CI_WAP_R: {
+        int64_t t = (int64_t)PAR_W(a, AP) + (int32_t)p;
+        if (t < INT32_MIN || t > INT32_MAX)
+            return ERR_LIMIT;
+        return write_param(a, P_AP, (int32_t)t);
+    }
+    default:
+        return ERR_SYNTAX;
+    }
+}
+
+static uint32_t read_value(int ci, unsigned a)
+{
+    const axis_t *x = &axes[a];
+    if (cmds[ci].kind == CK_RPAR) {
+        if (cmds[ci].arg == P_ZP)
+            return (uint32_t)x->zp_value;
+        return (uint32_t)par_written(a, cmds[ci].arg);
+    }
+    switch (ci) {
+    case CI_VER: return FW_VER_WORD;
+    case CI_RCP: return (uint32_t)x->pos;
+    case CI_RCPI: return x->counter;
+    case CI_RCT: return x->counter;
+    case CI_RED: return x->raw;
+    case CI_RFE: return (uint32_t)x->ferr;
+    case CI_ROUT: return (uint32_t)(int32_t)x->out;
+    case CI_RPS: return 0;   /* command velocity: with the profile generator */
+    case CI_RAV: return (uint32_t)x->vel;
+    case CI_RAS: return card_ostat;
+    case CI_RBS: return x->ustat;
+    case CI_RSS: return x->sstat;
+    default: return 0;
+    }
+}
+
+/* ---- one command --------------------------------------------------------- */
+static void error_bits(unsigned a, uint16_t code)
+{
+    switch (code) {
+    case ERR_SYNTAX: axes[a].ustat |= UB(SYN_F); break;
+    case ERR_LIMIT: axes[a].ustat |= UB(LIMIT_F); break;
+    case ERR_LOGICAL: axes[a].ustat |= UB(LOGO_F); break;
+    default: break;
+    }
+}
+
+static int is_card_error(uint16_t code)
+{
+    return code == ERR_AXIS || code == ERR_WATCHDOG || code == ERR_HSTOP;
+}
 
 void cmd_execute(const mac4_msg_t *in, mac4_msg_t *out)
 {
-    /* The command table arrives with the command-interface issue; until then
-     * every code is a syntax error (161, manual 6.3.2). */
     out->axis = in->axis;
     out->source = in->source;
-    out->code = 161;
-    out->param = (in->axis < MAC4_NAXES ? axes[in->axis].ustat : 0) | (1ul << 13);
+    out->code = in->code;
+    wd_last_us = now_us();
+    wd_fired = 0;
+    hal_wr32(DPC_COMMANDS, hal_rd32(DPC_COMMANDS) + 1);
+
+    if (in->axis >= MAC4_NAXES) {                 /* 6.3.1 */
+        card_ostat |= OB(AXIS_F);
+        out->code = ERR_AXIS;
+        out->param = card_ostat;
+        return;
+    }
+    unsigned a = in->axis;
+    last_valid_axis = in->axis;
+    axis_t *x = &axes[a];
+    int ci = cmd_find(in->code);
+    uint16_t err = 0;
+
+    if (ci < 0 || !cmds[ci].avail) {
+        err = ERR_SYNTAX;
+    } else if (card_err_report || x->err_report) {
+        /* 6.3.4-6.3.6: "the error message is given as the response to the
+         * next instruction"; the instruction itself is not executed. */
+        uint16_t code = card_err_report ? card_err_report : x->err_report;
+        if (card_err_report)
+            card_err_report = 0;
+        else
+            x->err_report = 0;
+        out->code = code;
+        out->param = is_card_error(code) ? card_ostat : x->ustat;
+        return;
+    } else {
+        uint8_t kind = cmds[ci].kind;
+        if (kind == CK_READ || kind == CK_RPAR || kind == CK_DIAG) {
+            out->param = read_value(ci, a);
+            return;
+        }
+        if (ci == CI_C) {
+            x->ustat &= ~US_ERRORS;
+            card_ostat &= ~(OB(AXIS_F) | OB(WATCH_F));
+            if (!(hal_rd16(SYS_STATUS) & SYS_ST_STOP))
+                card_ostat &= ~OB(H_STOP);
+            out->param = x->ustat;
+            return;
+        }
+        if ((x->ustat & US_ERRORS) || (card_ostat & (OB(AXIS_F) | OB(WATCH_F) | OB(H_STOP))))
+            err = ERR_LOGICAL;                    /* 6.3.7: error not acknowledged */
+        else if (kind == CK_MODE)
+            x->next_mode = cmds[ci].arg;
+        else if (kind == CK_WPAR)
+            err = (uint16_t)write_param(a, cmds[ci].arg, (int32_t)in->param);
+        else
+            err = (uint16_t)do_general(ci, a, in->param);
+    }
+    if (err) {
+        error_bits(a, err);
+        out->code = err;
+    }
+    out->param = x->ustat;
 }
 
+/* ---- the interfaces ------------------------------------------------------ */
 static void respond(const mac4_msg_t *out)
 {
     if (out->source == MSG_SRC_SERIAL) {
         serial_send(out);
         return;
     }
-    if (q_put(DP_RSP_QUEUE, out) != Q_OK)
+    if (q_put(DP_RSP_QUEUE, out) != Q_OK) {
+        /* 4.6: a full output queue loses the response, no interrupt 2 */
         hal_wr32(DPC_RSP_LOST, hal_rd32(DPC_RSP_LOST) + 1);
+        return;
+    }
+    unsigned a = out->axis < MAC4_NAXES ? out->axis : last_valid_axis;
+    vme_irq((uint8_t)PAR(a, IRQ2));
+}
+
+static void watchdog_check(void)
+{
+    int32_t wd = PAR(0, WD);
+    if (wd <= 0 || wd_fired)
+        return;
+    uint32_t elapsed = now_us() - wd_last_us;
+    if (elapsed / 1000u < (uint32_t)wd)
+        return;
+    /* 4.7, 6.3.6: all axes stop (emergency ramp; test mode without) */
+    wd_fired = 1;
+    unsigned prev = hal_irq_save();
+    for (unsigned n = 0; n < MAC4_NAXES; n++)
+        if (axes[n].mode != M_DISABLE)
+            axis_disable(n);
+    card_ostat |= OB(WATCH_F);
+    card_err_report = ERR_WATCHDOG;
+    hal_irq_restore(prev);
 }
 
 void cmd_poll(void)
 {
     mac4_msg_t in, out;
     serial_poll();
+    watchdog_check();
+    if (mr_pending)
+        return;             /* the watchdog resets the card soon */
     /* One command per pass, alternating between the two interfaces so
      * neither can starve the other. */
     static uint8_t turn;
@@ -48,14 +483,20 @@ void cmd_poll(void)
         } else {
             queue_bad = 0;
             have = (r == Q_OK);
-            if (have)
+            if (have) {
                 in.source = MSG_SRC_VME;   /* a VME command is answered on the VMEbus */
+                /* interrupt 1: a command was read from the VME queue (4.6) */
+                if (in.axis < MAC4_NAXES)
+                    vme_irq((uint8_t)par(in.axis, P_IRQ1));
+            }
         }
     }
     if (!have && !turn)
         have = serial_get(&in);
     if (!have)
         return;
+    unsigned prev = hal_irq_save();   /* the tick sees a command whole or not at all */
     cmd_execute(&in, &out);
+    hal_irq_restore(prev);
     respond(&out);
 }

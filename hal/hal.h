@@ -20,10 +20,15 @@
 #error "define HAL_TARGET or HAL_NATIVE"
 #endif
 
-/* Interrupt masking: returns the previous mask for hal_irq_restore(). */
+/* Interrupt masking: hal_irq_save() masks levels 1-6 (level 7, the
+ * emergency stop, cannot be masked on a 68000) and returns the previous
+ * mask for hal_irq_restore().  Inline on the target: they guard short
+ * critical sections in the tick's neighbourhood. */
+#if !defined(HAL_TARGET)
 unsigned hal_irq_save(void);
 void hal_irq_restore(unsigned prev);
 void hal_irq_enable_all(void);
+#endif
 
 /* Put the live vector table in place (target); nothing to do natively. */
 int hal_copy_vectors(void);

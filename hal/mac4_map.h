@@ -44,6 +44,15 @@
 #define DP_AXIS_DATA(n)        (MAC4_U(0x3000) + (n) * DP_AXIS_STRIDE)
 #define DP_EXT_FLAG(n)         (DP_AXIS_DATA(n) + MAC4_U(0x308)) /* interlock, bit 15 */
 #define DP_EXT_POS(n)          (DP_AXIS_DATA(n) + MAC4_U(0x30A)) /* 32-bit position */
+/* Axis data the card publishes every tick at DP_AXIS_DATA(n) + (32-bit words): */
+#define DPA_USTAT              0x00  /* user status (RBS) */
+#define DPA_SSTAT              0x04  /* system status (RSS) */
+#define DPA_POS                0x08  /* actual position (RCP) */
+#define DPA_SETPOINT           0x0C  /* position setpoint */
+#define DPA_FERR               0x10  /* following error (RFE) */
+#define DPA_OUT                0x14  /* output: DAC word or step rate (ROUT) */
+#define DPA_VEL                0x18  /* actual velocity per servo period (RAV) */
+#define DPA_RAW                0x1C  /* raw measurement (RED) */
 #define DP_CARD_DATA           MAC4_U(0x4000)          /* "internal axis data 1-4" */
 #define DP_STOP_BITS           MAC4_U(0x4600)          /* bits 1,3,5,7: stop axis 1-4 */
 #define DP_CMD_QUEUE           MAC4_U(0x4700)          /* command queue header */
@@ -66,6 +75,18 @@
 #define DPC_TICKS              (DP_CARD_DATA + 0x28) /* servo ticks since reset */
 #define DPC_VERSION            (DP_CARD_DATA + 0x2C) /* VER word (table 6.1) */
 #define DPC_RAM_BAD_ADDR       (DP_CARD_DATA + 0x30) /* first failing RAM address */
+/* Serial line statistics (firmware/serial.c, docs/serial.md), counted since reset. */
+#define DPC_SERIAL_RX_OK       (DP_CARD_DATA + 0x40) /* valid telegrams taken as commands */
+#define DPC_SERIAL_NAKS        (DP_CARD_DATA + 0x44) /* NAKs the card sent (every cause) */
+#define DPC_SERIAL_GARBAGE     (DP_CARD_DATA + 0x48) /* bytes outside any telegram, discarded */
+#define DPC_SERIAL_OVERRUNS    (DP_CARD_DATA + 0x4C) /* received bytes lost: UART overrun or RX buffer full */
+#define DPC_SERIAL_FRAMING     (DP_CARD_DATA + 0x50) /* characters with a framing error */
+#define DPC_SERIAL_CMD_LOST    (DP_CARD_DATA + 0x54) /* valid telegrams refused (NAK): command FIFO full */
+#define DPC_SERIAL_TX_OK       (DP_CARD_DATA + 0x58) /* response telegrams queued for sending */
+#define DPC_SERIAL_TX_LOST     (DP_CARD_DATA + 0x5C) /* responses or NAKs dropped: TX buffer full */
+#define DPC_OSTAT              (DP_CARD_DATA + 0x34) /* overall status (RAS) */
+#define DPC_VME_IRQ_LOST       (DP_CARD_DATA + 0x38) /* VMEbus interrupts dropped (FIFO full) */
+#define DPC_COMMANDS           (DP_CARD_DATA + 0x3C) /* commands executed since reset */
 
 #define DPC_ERR_NONE           0
 #define DPC_ERR_RAM            2   /* shown as "2." */

@@ -8,6 +8,7 @@
 #include "m68kcpu.h"
 #include "cpu.h"
 #include "periph.h"
+#include "profile.h"
 
 static int expect_vector;   /* an interrupt acknowledge precedes its vector fetch */
 static int in_slice;        /* m68k_cycles_run() is only meaningful inside m68k_execute */
@@ -114,6 +115,7 @@ static cyc_t m68k_cpu_execute(sim_t *s, cyc_t max)
     if (max > 0x7FFFFFF)
         max = 0x7FFFFFF;
     in_slice = 1;
+    profile_slice_start();
     int ran = m68k_execute((int)max);
     in_slice = 0;
     return (cyc_t)ran;

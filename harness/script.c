@@ -11,6 +11,7 @@
 #include "script.h"
 #include "cpu.h"
 #include "periph.h"
+#include "profile.h"
 
 #define MAXTOK 64
 
@@ -176,6 +177,24 @@ int script_line(script_t *sc, sim_t *s, char *line)
             sim_printf(s, "banner \"%s\"\n", b);
         }
         return 0;
+    }
+    if (!strcmp(c, "profile")) {
+        if (n >= 2 && (!strcmp(tok[1], "on") || !strcmp(tok[1], "off"))) {
+            profile_set(!strcmp(tok[1], "on"));
+            return 0;
+        }
+        if (n >= 2 && !strcmp(tok[1], "reset")) {
+            profile_reset();
+            return 0;
+        }
+        if (n >= 2 && !strcmp(tok[1], "report")) {
+            long long top = 20;
+            if (n == 3 && script_parse_num(tok[2], &top))
+                return script_err(sc, "usage: %s report [N]", c);
+            profile_report(s->out, (unsigned)top);
+            return 0;
+        }
+        return script_err(sc, "usage: %s on|off|reset|report [N]", c);
     }
     if (!strcmp(c, "irqstats")) {
         irq_print_table(s, s->out);

@@ -1,24 +1,6 @@
 /* 68000 side of hal.h: status-register access and the vector copy. */
 #include "hal.h"
 
-unsigned hal_irq_save(void)
-{
-    uint16_t sr;
-    __asm__ volatile("move.w %%sr, %0\n\tori.w #0x0700, %%sr" : "=d"(sr) : : "memory", "cc");
-    return sr;
-}
-
-void hal_irq_restore(unsigned prev)
-{
-    uint16_t sr = (uint16_t)prev;
-    __asm__ volatile("move.w %0, %%sr" : : "d"(sr) : "memory", "cc");
-}
-
-void hal_irq_enable_all(void)
-{
-    __asm__ volatile("andi.w #0xF8FF, %%sr" : : : "memory", "cc");
-}
-
 int hal_copy_vectors(void)
 {
     /* The DPRAM holds the live vector table once the overlay is gone (3.1). */

@@ -10,4 +10,22 @@ static inline void hal_wr8(uint32_t a, uint8_t v) { *(volatile uint8_t *)a = v; 
 static inline void hal_wr16(uint32_t a, uint16_t v) { *(volatile uint16_t *)a = v; }
 static inline void hal_wr32(uint32_t a, uint32_t v) { *(volatile uint32_t *)a = v; }
 
+static inline unsigned hal_irq_save(void)
+{
+    uint16_t sr;
+    __asm__ volatile("move.w %%sr, %0\n\tori.w #0x0700, %%sr" : "=d"(sr) : : "memory", "cc");
+    return sr;
+}
+
+static inline void hal_irq_restore(unsigned prev)
+{
+    uint16_t sr = (uint16_t)prev;
+    __asm__ volatile("move.w %0, %%sr" : : "d"(sr) : "memory", "cc");
+}
+
+static inline void hal_irq_enable_all(void)
+{
+    __asm__ volatile("andi.w #0xF8FF, %%sr" : : : "memory", "cc");
+}
+
 #endif

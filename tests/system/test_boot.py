@@ -42,7 +42,7 @@ def test_tick_runs_and_is_measured(card, period_ms):
     row = r.grep(r"^timer \(L6\)")[0].split()
     count, mn, mean, mx = (int(x) for x in row[2:6])
     assert count >= 1000 / period_ms - 1
-    assert 0 < mn <= mean <= mx < 4000       # the issue-6 budget, checked early
+    assert 0 < mn <= mean <= mx < 10000      # sanity; the cycle budgets live in tests/timing
 
 
 def _corrupt(tmp_path, card, offset):

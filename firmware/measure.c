@@ -1,0 +1,153 @@
+/*
+ * measure.c - position measurement, first stage of the tick (manual 4.4):
+ * raw value -> significant bits <eb> -> relative (overflow-safe delta) or
+ * absolute (range check against <ec>) -> measured position; the axis
+ * position is that plus the axis offset <ao> (4.3.2).
+ */
+#include "fw.h"
+#include "hal.h"
+#include "card.h"
+#include "params.h"
+#include "measure.h"
+
+static uint32_t eb_mask(int32_t eb) { return eb >= 32 ? 0xFFFFFFFFu : (((uint32_t)1 << eb) - 1u); }
+
+/* Sign-extend the difference of two eb-bit counter readings: correct as
+ * long as the axis moves less than half the counter range per tick. */
+static int32_t delta_eb(uint32_t now, uint32_t last, int32_t eb)
+{
+    uint32_t d = (now - last) & eb_mask(eb);
+    if (eb < 32 && (d & ((uint32_t)1 << (eb - 1))))
+        d |= ~eb_mask(eb);
+    return (int32_t)d;
+}
+
+static uint32_t gray_to_binary(uint32_t g)
+{
+    g ^= g >> 16;
+    g ^= g >> 8;
+    g ^= g >> 4;
+    g ^= g >> 2;
+    g ^= g >> 1;
+    return g;
+}
+
+/* Returns 0 and the raw value, or -1 when the measurement failed. */
+static int read_raw(unsigned n, uint32_t *raw)
+{
+    int32_t et = PAR(n, ET);
+    uint32_t ea = (uint32_t)PAR(n, EA);
+    if (et <= 1 && MAC4_CARD != MAC4_CARD_SSI) {
+        uint32_t hi = hal_rd16(AX_REG(n, AX_CNT_HI));   /* latches LO */
+        *raw = (hi << 16) | hal_rd16(AX_REG(n, AX_CNT_LO));
+        return 0;
+    }
+    if (et <= 2) {                                      /* SSI at P2 */
+        for (unsigned i = 0; (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY) && i < 200; i++)
+            ;
+        uint32_t hi = hal_rd16(AX_REG(n, AX_SSI_HI));
+        uint32_t v = (hi << 16) | hal_rd16(AX_REG(n, AX_SSI_LO));
+        v >>= PAR(n, SC);                             /* right-justify (4.4.2.2) */
+        v &= eb_mask(PAR(n, EB));
+        if (axes[n].ustat & UB(GRAY))
+            v = gray_to_binary(v);
+        *raw = v;
+        return 0;
+    }
+    if (ea < DPRAM_SIZE) {                              /* external, via the DPRAM (3.5.2) */
+        if (hal_rd16(ea - 2) & 0x8000u) {
+            axes[n].raw = hal_rd32(ea);
+            hal_wr16(ea - 2, 0);                        /* the host may write the next one */
+            vme_irq((uint8_t)PAR(n, IRQ6));
+        }
+        *raw = axes[n].raw;
+        return 0;
+    }
+    /* external over the VMEbus, through the A24 master window */
+    hal_wr16(VME_PAGE, (uint16_t)(ea >> 20));
+    uint32_t w = VME_WIN_BASE + (ea & 0xFFFFFu);
+    uint32_t v;
+    if (PAR(n, EB) <= 16) {
+        v = hal_rd16(w);
+    } else {                                            /* LSW at <ea>+2 first (4.4.2.1) */
+        uint32_t lsw = hal_rd16(w + 2);
+        v = ((uint32_t)hal_rd16(w) << 16) | lsw;
+    }
+    if (hal_rd16(VME_STATUS) & VME_ST_BERR)
+        return -1;
+    *raw = v;
+    return 0;
+}
+
+void measure_start(void)
+{
+#if MAC4_CARD == MAC4_CARD_SSI
+    /* the four SSI receivers clock in parallel while the tick goes on */
+    for (unsigned n = 0; n < MAC4_NAXES; n++)
+        if (axis_initialised(n) && PAR(n, ET) <= 2)
+            hal_wr16(AX_REG(n, AX_SSI_START), 1);
+#endif
+}
+
+void measure_axis(unsigned n)
+{
+    axis_t *x = &axes[n];
+    if (!axis_initialised(n))
+        return;                                         /* position reads 0 before INIT (4.9) */
+    uint32_t raw;
+    if (read_raw(n, &raw)) {
+        axis_error(n, UB(ENCODER_F) | UB(LOGO_F), ERR_LOGICAL);
+        axis_disable(n);                                /* 6.3.8: without a ramp */
+        return;
+    }
+    int32_t et = PAR(n, ET), eb = PAR(n, EB), ec = PAR(n, EC);
+    raw &= eb_mask(eb);
+    int32_t before = x->meas;
+    if (et == 2 || et == 4) {                           /* absolute */
+        if (ec > 0 && raw >= (uint32_t)ec) {
+            axis_error(n, UB(ENCODER_F) | UB(LOGO_F), ERR_LOGICAL);
+            axis_disable(n);
+            return;
+        }
+        x->meas = (int32_t)raw;
+    } else {                                            /* relative */
+        x->meas += delta_eb(raw, x->counter, eb);
+    }
+    x->raw = raw;
+    x->counter = raw;
+    x->vel = x->meas - before;
+    x->pos = x->meas + PAR(n, AO);
+    if (PAR(n, SH) != 1) {                            /* circular: 0 .. <cr>-1 (4.3.1.2) */
+        int32_t cr = PAR(n, CR);
+        while (x->pos >= cr)
+            x->pos -= cr;
+        while (x->pos < 0)
+            x->pos += cr;
+    }
+}
+
+void measure_init(unsigned n)
+{
+    axis_t *x = &axes[n];
+    int32_t et = PAR(n, ET);
+    if (et <= 2) {                                      /* internal: table 4.3 "def." */
+        uint32_t ea = (MAC4_CARD == MAC4_CARD_SSI) ? AX_REG(n, AX_SSI_HI) : AX_REG(n, AX_CNT_HI);
+        int32_t eb = 24;
+        par_w[P_EA][n] = par_a[P_EA][n] = (int32_t)(ea & 0xFFFFFFu);
+        par_w[P_EB][n] = par_a[P_EB][n] = eb;
+        par_w[P_EC][n] = par_a[P_EC][n] = (int32_t)1 << eb;
+    }
+    /* A repeated INIT restarts a relative measurement at 0 (4.9). */
+    x->meas = 0;
+    x->vel = 0;
+    if (MAC4_CARD == MAC4_CARD_SSI && et <= 2)
+        hal_wr16(AX_REG(n, AX_SSI_START), 1);
+    uint32_t raw;
+    if (read_raw(n, &raw) == 0) {
+        raw &= eb_mask(PAR(n, EB));
+        x->counter = x->raw = raw;
+        if (et == 2 || et == 4)
+            x->meas = (int32_t)raw;
+    }
+    x->pos = x->meas + PAR(n, AO);
+}

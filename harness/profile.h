@@ -1,0 +1,9 @@
+#ifndef PROFILE_H
+#define PROFILE_H
+#include <stdio.h>
+int profile_load_symbols(const char *path);   /* nm output; returns the count or -1 */
+void profile_set(int on);
+void profile_reset(void);
+void profile_slice_start(void);
+void profile_report(FILE *out, unsigned top);
+#endif
