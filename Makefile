@@ -24,7 +24,7 @@ FW_HDRS  := $(wildcard firmware/*.h hal/*.h hal/target/*.h)
 
 WARN     := -Wall -Wextra -Werror -Wconversion -Wshadow -Wstrict-prototypes -Wmissing-prototypes
 CFLAGS68 := -m68000 -ffreestanding -nostdlib -fno-pic -fno-builtin -std=c11 -O2 \
-            -fstack-usage -ffunction-sections $(WARN) -Ihal -Ihal/target -Ifirmware -DHAL_TARGET
+            -fstack-usage -ffunction-sections -fno-store-merging -fno-expensive-optimizations $(WARN) -Ihal -Ihal/target -Ifirmware -DHAL_TARGET
 LDFLAGS68 := -m68000 -nostdlib -static -T linker/mac4.ld -Wl,--gc-sections -Wl,--build-id=none -Wl,--fatal-warnings
 
 HOSTWARN := -Wall -Wextra -Werror
@@ -34,15 +34,16 @@ MUS      := $(B)/deps/musashi
 MUSOBJ   := $(B)/musashi/m68kcpu.o $(B)/musashi/m68kops.o $(B)/musashi/m68kdasm.o $(B)/musashi/softfloat.o
 MUSCFLAGS := -std=gnu99 -O2 -g -w -I$(MUS) -Iharness -Ihal -DMUSASHI_CNF='"musashi_cnf.h"'
 
-HARNESS_CORE := harness/sim.c harness/bus.c harness/periph.c harness/axisboard.c harness/host.c harness/run.c
+HARNESS_CORE := harness/sim.c harness/bus.c harness/periph.c harness/axisboard.c harness/host.c harness/run.c \
+                harness/plant.c harness/plant_vme.c
 HARNESS_SRCS := $(HARNESS_CORE) \
-                harness/script.c harness/script_serial.c harness/script_plant.c harness/cpu_m68k.c harness/mac4sim.c
-HARNESS_HDRS := $(wildcard harness/*.h) hal/mac4_map.h
+                harness/script.c harness/script_serial.c harness/serial_host.c harness/script_plant.c harness/cpu_m68k.c harness/profile.c harness/cmdnames.c harness/mac4sim.c
+HARNESS_HDRS := $(wildcard harness/*.h) hal/mac4_map.h firmware/commands.def
 
 IMAGES := $(foreach c,$(CARDS),$(B)/eprom/mac4-$(c).bin)
 
-.PHONY: all deps demo test unit system clean images
-all: images $(B)/mac4sim
+.PHONY: all deps demo test unit system clean images docs
+all: images $(B)/mac4sim $(B)/commands.json
 
 deps: $(MUS)/.stamp
 $(MUS)/.stamp: tools/bootstrap.sh tools/deps/pypi.txt
@@ -70,6 +71,7 @@ $(B)/eprom/mac4-$(1).elf: $$(FW_OBJS_$(1)) linker/mac4.ld
 $(B)/eprom/mac4-$(1).bin: $(B)/eprom/mac4-$(1).elf tools/mkeprom.py
 	$$(OBJCOPY68) -O binary -j .vectors -j .text -j .data $$< $(B)/eprom/mac4-$(1).raw
 	$$(SIZE68) -A $$< > $(B)/eprom/mac4-$(1).sections
+	$$(CROSS)nm -n $$< > $(B)/eprom/mac4-$(1).sym
 	$$(PYTHON) tools/mkeprom.py $(B)/eprom/mac4-$(1).raw $(B)/eprom/mac4-$(1) \
 		--sections $(B)/eprom/mac4-$(1).sections
 endef
@@ -94,8 +96,18 @@ $(B)/musashi/softfloat.o: $(MUS)/m68kops.c
 
 # ---- the emulator ----------------------------------------------------------
 $(B)/mac4sim: $(HARNESS_SRCS) $(HARNESS_HDRS) $(MUSOBJ)
-	$(HOSTCC) $(HOSTCFLAGS) -Iharness -Ihal -I$(MUS) -DMUSASHI_CNF='"musashi_cnf.h"' \
+	$(HOSTCC) $(HOSTCFLAGS) -Iharness -Ihal -Ifirmware -I$(MUS) -DMUSASHI_CNF='"musashi_cnf.h"' \
 		$(HARNESS_SRCS) $(MUSOBJ) -lm -o $@
+
+# ---- the command dictionary, from firmware/commands.def ---------------------
+$(B)/gen_commands: tools/gen_commands.c firmware/commands.def firmware/status.def firmware/status.h
+	@mkdir -p $(@D)
+	$(HOSTCC) $(HOSTCFLAGS) -Ifirmware -Ihal $< -o $@
+$(B)/commands.json: $(B)/gen_commands
+	$(B)/gen_commands > $@.tmp
+	$(PYTHON) -c 'import json,sys; json.load(open(sys.argv[1]))' $@.tmp && mv $@.tmp $@
+docs: $(B)/commands.json tools/commands_md.py
+	$(PYTHON) tools/commands_md.py $(B)/commands.json docs/commands.md
 
 # ---- tests -----------------------------------------------------------------
 include tests/unit/unit.mk

@@ -215,11 +215,12 @@ static void axis_output(unsigned n)
         ctrl |= AX_CTRL_TURBO;
     else
         ctrl &= (uint16_t)~AX_CTRL_TURBO;
+    /* DIR at 0 V (bit set) = positive; open collector = negative (table 2.12) */
     if (out < 0) {
-        ctrl |= AX_CTRL_DIR;
+        ctrl &= (uint16_t)~AX_CTRL_DIR;
         out = -out;
     } else {
-        ctrl &= (uint16_t)~AX_CTRL_DIR;
+        ctrl |= AX_CTRL_DIR;
     }
     /* rate register: 0.7629 Hz per LSB (table 4.1): 1/0.7629 = 21475/2^14
      * within 0.005%; one MULU.W, no division */

@@ -1,49 +1,372 @@
 /*
- * serial.c - UART driver.  The receive interrupt only moves bytes into a
- * ring buffer; decoding telegrams happens in the main loop.
+ * serial.c - the front-panel serial line (manual 3.3), docs/serial.md.
+ *
+ * Interrupt level 4 (fw_isr_uart) moves bytes only: from the UART into the
+ * receive ring, and from the transmit ring into the UART.  serial_poll()
+ * runs the telegram decoder from the main loop, answers broken telegrams
+ * with NAK and puts valid commands into a small FIFO for serial_get().
+ * serial_send() encodes a response into the transmit ring, all of it or
+ * nothing.
+ *
+ * Everything starts from zero: .bss is cleared by crt0, which is the same
+ * state serial_reset() produces, so the driver works before anyone calls it.
  */
 #include "fw.h"
 #include "hal.h"
 #include "serial.h"
 
-#define RX_SIZE 64u                       /* power of two */
-static volatile uint8_t rx_buf[RX_SIZE];
-static volatile uint8_t rx_head, rx_tail; /* head written by the ISR only */
-static volatile uint16_t rx_overruns;
+/* ---- pure codec ---------------------------------------------------------- */
 
-void serial_reset(void) { rx_head = rx_tail = 0; rx_overruns = 0; }
+uint8_t serial_checksum(const uint8_t data[SERIAL_DATA_LEN])
+{
+    unsigned sum = 0;
+    for (unsigned i = 0; i < SERIAL_DATA_LEN; i++)
+        sum += data[i];
+    return (uint8_t)sum;
+}
+
+/* Data byte i (0..6) of a message: axis, code MSB, LSB, parameter MSB..LSB. */
+static uint8_t data_of(const mac4_msg_t *m, unsigned i)
+{
+    if (i == 0)
+        return m->axis;
+    if (i < 3)
+        return (uint8_t)(m->code >> (8u * (2u - i)));
+    return (uint8_t)(m->param >> (8u * (6u - i)));
+}
+
+unsigned serial_encode(const mac4_msg_t *m, uint8_t *buf)
+{
+    unsigned n = 0, sum = 0;
+    buf[n++] = SERIAL_DLE;
+    buf[n++] = SERIAL_STX;
+    for (unsigned i = 0; i < SERIAL_DATA_LEN; i++) {
+        uint8_t b = data_of(m, i);
+        sum += b;
+        buf[n++] = b;
+        if (b == SERIAL_DLE)
+            buf[n++] = SERIAL_DLE;
+    }
+    buf[n++] = (uint8_t)sum;
+    if ((uint8_t)sum == SERIAL_DLE)   /* sent doubled like a data byte (docs/serial.md) */
+        buf[n++] = SERIAL_DLE;
+    return n;
+}
+
+void serial_dec_init(serial_dec_t *d)
+{
+    d->state = SERIAL_DS_HUNT;
+    d->n = 0;
+    d->sum = 0;
+    d->free_dles = 0;
+    d->axis = 0;
+    d->code = 0;
+    d->param = 0;
+    d->garbage = 0;
+}
+
+int serial_dec_busy(const serial_dec_t *d) { return d->state != SERIAL_DS_HUNT; }
+
+static void start_telegram(serial_dec_t *d)
+{
+    d->state = SERIAL_DS_DATA;
+    d->n = 0;
+    d->sum = 0;
+    d->free_dles = 0;
+}
+
+static void data_byte(serial_dec_t *d, uint8_t b)
+{
+    if (d->n == 0)
+        d->axis = b;
+    else if (d->n < 3)
+        d->code = (uint16_t)(d->code << 8 | b);
+    else
+        d->param = d->param << 8 | b;
+    d->n++;
+    d->sum = (uint8_t)(d->sum + b);
+    d->state = (d->n == SERIAL_DATA_LEN) ? SERIAL_DS_CSUM : SERIAL_DS_DATA;
+}
+
+/* The DLE held in HUNT_DLE turned out not to start a header.  It is garbage
+ * unless it is the checksum $10 itself or that checksum's doubling. */
+static void drop_held_dle(serial_dec_t *d)
+{
+    if (d->free_dles)
+        d->free_dles--;
+    else
+        d->garbage++;
+}
+
+int serial_dec_step(serial_dec_t *d, uint8_t b, mac4_msg_t *m)
+{
+    switch (d->state) {
+    case SERIAL_DS_HUNT_DLE:
+        if (b == SERIAL_STX) {
+            start_telegram(d);
+        } else if (b == SERIAL_DLE) {
+            drop_held_dle(d);            /* the new DLE is the candidate now */
+        } else {
+            drop_held_dle(d);
+            d->free_dles = 0;
+            d->garbage++;
+            d->state = SERIAL_DS_HUNT;
+        }
+        return SERIAL_EV_NONE;
+
+    case SERIAL_DS_DATA:
+        if (b == SERIAL_DLE)
+            d->state = SERIAL_DS_DATA_DLE;
+        else
+            data_byte(d, b);
+        return SERIAL_EV_NONE;
+
+    case SERIAL_DS_DATA_DLE:
+        if (b == SERIAL_DLE) {           /* a doubled DLE: one data byte $10 */
+            data_byte(d, SERIAL_DLE);
+            return SERIAL_EV_NONE;
+        }
+        if (b == SERIAL_STX) {           /* a new header: the telegram before was cut short */
+            start_telegram(d);
+            return SERIAL_EV_TRUNCATED;
+        }
+        d->state = SERIAL_DS_HUNT;       /* DLE + anything else: broken; b belongs to it */
+        return SERIAL_EV_BROKEN;
+
+    case SERIAL_DS_CSUM: {
+        int ev = (b == d->sum) ? SERIAL_EV_MSG : SERIAL_EV_CHECKSUM;
+        if (ev == SERIAL_EV_MSG) {
+            m->axis = d->axis;
+            m->code = d->code;
+            m->param = d->param;
+            m->source = MSG_SRC_SERIAL;
+        }
+        if (b == SERIAL_DLE) {
+            /* A checksum byte $10 may be followed by its doubling DLE (we send
+             * it so), or directly by the next header; hold it as a possible
+             * header DLE, and do not count it or one doubling as garbage. */
+            d->state = SERIAL_DS_HUNT_DLE;
+            d->free_dles = 2;
+        } else {
+            d->state = SERIAL_DS_HUNT;
+        }
+        return ev;
+    }
+
+    default:                             /* SERIAL_DS_HUNT, or a corrupt state */
+        d->free_dles = 0;
+        if (b == SERIAL_DLE) {
+            d->state = SERIAL_DS_HUNT_DLE;
+        } else {
+            d->state = SERIAL_DS_HUNT;
+            d->garbage++;
+        }
+        return SERIAL_EV_NONE;
+    }
+}
+
+int serial_dec_timeout(serial_dec_t *d)
+{
+    int ev = SERIAL_EV_NONE;
+    if (d->state == SERIAL_DS_HUNT_DLE)
+        drop_held_dle(d);                /* a lone DLE, no telegram followed */
+    else if (d->state != SERIAL_DS_HUNT)
+        ev = SERIAL_EV_STALLED;
+    d->state = SERIAL_DS_HUNT;
+    d->free_dles = 0;
+    return ev;
+}
+
+/* ---- driver state -------------------------------------------------------- */
+
+/* Receive ring: head written by the ISR only, tail by the main loop only. */
+static volatile uint8_t rx_buf[SERIAL_RX_SIZE];
+static volatile uint8_t rx_head, rx_tail;
+/* Transmit ring: head written by the main loop only, tail by the ISR only. */
+static volatile uint8_t tx_buf[SERIAL_TX_SIZE];
+static volatile uint8_t tx_head, tx_tail;
+static volatile uint8_t tx_on;            /* UART_CTRL_TXIE is set */
+/* Counted by the ISR (16 bits: one move.w, atomic for the main loop). */
+static volatile uint16_t isr_overruns, isr_framing;
+
+static serial_dec_t dec;
+static uint32_t last_rx_us;               /* when serial_poll last took a byte */
+
+static mac4_msg_t fifo[SERIAL_FIFO_LEN];
+static uint8_t fifo_head, fifo_count;
+
+/* Statistics, mirrored into the card data block (DPC_SERIAL_*). */
+enum { ST_RX_OK, ST_NAKS, ST_GARBAGE, ST_OVERRUNS, ST_FRAMING, ST_CMD_LOST, ST_TX_OK, ST_TX_LOST,
+       ST_COUNT };
+static uint32_t stats[ST_COUNT];
+static uint16_t seen_overruns, seen_framing;
+
+#define RX_MASK (SERIAL_RX_SIZE - 1u)
+#define TX_MASK (SERIAL_TX_SIZE - 1u)
+
+static void stat_set(unsigned i, uint32_t v)
+{
+    stats[i] = v;
+    hal_wr32(DPC_SERIAL_RX_OK + 4u * i, v);
+}
+
+static void stat_add(unsigned i, uint32_t n) { stat_set(i, stats[i] + n); }
+
+void serial_reset(void)
+{
+    unsigned sr = hal_irq_save();
+    hal_wr16(UART_CTRL, (uint16_t)(hal_rd16(UART_CTRL) & ~UART_CTRL_TXIE));
+    tx_on = 0;
+    rx_head = rx_tail = 0;
+    tx_head = tx_tail = 0;
+    isr_overruns = isr_framing = 0;
+    hal_irq_restore(sr);
+    seen_overruns = seen_framing = 0;
+    serial_dec_init(&dec);
+    last_rx_us = 0;
+    fifo_head = fifo_count = 0;
+    for (unsigned i = 0; i < ST_COUNT; i++)
+        stat_set(i, 0);
+}
+
+/* ---- interrupt level 4 --------------------------------------------------- */
 
 void fw_isr_uart(void)
 {
-    uint16_t st = hal_rd16(UART_STATUS);
-    if (st & UART_ST_OVERRUN)
-        rx_overruns++;
-    while (st & UART_ST_RXRDY) {
+    uint16_t st = hal_rd16(UART_STATUS);      /* reading clears OVERRUN and FRAMING */
+    for (;;) {
+        if (st & UART_ST_OVERRUN)
+            isr_overruns++;
+        if (st & UART_ST_FRAMING)
+            isr_framing++;
+        if (!(st & UART_ST_RXRDY))
+            break;
         uint8_t b = (uint8_t)hal_rd16(UART_DATA);
-        uint8_t next = (uint8_t)((rx_head + 1u) & (RX_SIZE - 1u));
+        uint8_t next = (uint8_t)((rx_head + 1u) & RX_MASK);
         if (next != rx_tail) {
             rx_buf[rx_head] = b;
             rx_head = next;
         } else {
-            rx_overruns++;
+            isr_overruns++;                   /* never overwrite unread bytes */
         }
         st = hal_rd16(UART_STATUS);
     }
+    if (st & UART_ST_TXEMPTY) {
+        uint8_t t = tx_tail;
+        if (t != tx_head) {
+            hal_wr16(UART_DATA, tx_buf[t]);
+            tx_tail = (uint8_t)((t + 1u) & TX_MASK);
+        } else if (tx_on) {
+            tx_on = 0;                        /* nothing left: stop the TX interrupt */
+            hal_wr16(UART_CTRL, (uint16_t)(hal_rd16(UART_CTRL) & ~UART_CTRL_TXIE));
+        }
+    }
+}
+
+/* ---- main loop ------------------------------------------------------------ */
+
+static uint32_t now_us(void)
+{
+    unsigned sr = hal_irq_save();             /* reading HI latches LO: keep the pair together */
+    uint32_t hi = hal_rd16(TMR_FREE_HI);
+    uint32_t lo = hal_rd16(TMR_FREE_LO);
+    hal_irq_restore(sr);
+    return hi << 16 | lo;
+}
+
+/* Queue n bytes for sending, all or none.  Returns 1 if queued. */
+static int tx_put(const uint8_t *p, unsigned n)
+{
+    uint8_t head = tx_head;
+    unsigned room = (unsigned)(tx_tail - head - 1u) & TX_MASK;
+    if (n > room) {
+        stat_add(ST_TX_LOST, 1);
+        return 0;
+    }
+    for (unsigned i = 0; i < n; i++) {
+        tx_buf[head] = p[i];
+        head = (uint8_t)((head + 1u) & TX_MASK);
+    }
+    tx_head = head;                           /* publish after the bytes */
+    if (!tx_on) {
+        unsigned sr = hal_irq_save();
+        tx_on = 1;
+        hal_wr16(UART_CTRL, (uint16_t)(hal_rd16(UART_CTRL) | UART_CTRL_TXIE));
+        hal_irq_restore(sr);
+    }
+    return 1;
+}
+
+static void nak(void)
+{
+    static const uint8_t b = SERIAL_NAK;
+    stat_add(ST_NAKS, 1);
+    tx_put(&b, 1);
+}
+
+static void event(int ev, const mac4_msg_t *m)
+{
+    if (ev == SERIAL_EV_NONE)
+        return;
+    if (ev != SERIAL_EV_MSG) {
+        nak();
+        return;
+    }
+    if (fifo_count >= SERIAL_FIFO_LEN) {
+        /* No room: refuse it loudly, the sender may repeat it. */
+        stat_add(ST_CMD_LOST, 1);
+        nak();
+        return;
+    }
+    fifo[(fifo_head + fifo_count) % SERIAL_FIFO_LEN] = *m;
+    fifo_count++;
+    stat_add(ST_RX_OK, 1);
 }
 
 void serial_poll(void)
 {
-    /* Telegram decoding arrives with the command-interface issue. */
-    rx_tail = rx_head;
+    int got = 0;
+    mac4_msg_t m = {0, 0, 0, 0};
+    while (rx_tail != rx_head) {
+        uint8_t t = rx_tail;
+        uint8_t b = rx_buf[t];
+        rx_tail = (uint8_t)((t + 1u) & RX_MASK);
+        got = 1;
+        event(serial_dec_step(&dec, b, &m), &m);
+    }
+    /* The clock is read only when it matters: an idle line costs nothing. */
+    if (got)
+        last_rx_us = now_us();
+    else if (serial_dec_busy(&dec) && (uint32_t)(now_us() - last_rx_us) > SERIAL_TIMEOUT_US)
+        event(serial_dec_timeout(&dec), &m);
+
+    if (dec.garbage != stats[ST_GARBAGE])
+        stat_set(ST_GARBAGE, dec.garbage);
+    uint16_t o = isr_overruns, f = isr_framing;
+    if (o != seen_overruns) {
+        stat_add(ST_OVERRUNS, (uint16_t)(o - seen_overruns));
+        seen_overruns = o;
+    }
+    if (f != seen_framing) {
+        stat_add(ST_FRAMING, (uint16_t)(f - seen_framing));
+        seen_framing = f;
+    }
 }
 
 int serial_get(mac4_msg_t *m)
 {
-    (void)m;
-    return 0;
+    if (!fifo_count)
+        return 0;
+    *m = fifo[fifo_head];
+    fifo_head = (uint8_t)((fifo_head + 1u) % SERIAL_FIFO_LEN);
+    fifo_count--;
+    return 1;
 }
 
 void serial_send(const mac4_msg_t *m)
 {
-    (void)m;
+    uint8_t buf[SERIAL_TELEGRAM_MAX];
+    unsigned n = serial_encode(m, buf);
+    if (tx_put(buf, n))
+        stat_add(ST_TX_OK, 1);
 }

@@ -205,21 +205,48 @@
 #define AX_IN_SSI_BUSY         0x0040
 #define AX_IN_PULSE            0x0080 /* STP: step-pulse interrupt pending */
 #define AX_IN_BR_STEPS         0x0100 /* STP: BR closed, counter counts steps */
+#define AX_IN_PDONE            0x0200 /* STP: the pulse down-counter reached 0 */
+#define AX_IN_PULSE_OVR        0x0400 /* STP: a pulse came while AX_IN_PULSE was pending */
 #define AX_CTRL                0x0A  /* RW */
 #define AX_CTRL_EN             0x0001 /* drive /EN low: axis enabled */
 #define AX_CTRL_IDX_IE         0x0002
 #define AX_CTRL_IDX_ARM        0x0004 /* W 1: clear and re-arm index latch */
 #define AX_CTRL_CNT_CLR        0x0008 /* W 1: clear position counter */
-#define AX_CTRL_DIR            0x0010 /* STP: DIR low = positive */
-#define AX_CTRL_BOOST          0x0020 /* STP */
-#define AX_CTRL_TURBO          0x0040 /* STP */
-#define AX_CTRL_PULSE_IE       0x0080 /* STP */
+#define AX_CTRL_DIR            0x0010 /* STP: 1 drives DIR to 0 V = positive; 0 (reset)
+                                       * leaves it open collector = negative (table 2.12) */
+#define AX_CTRL_BOOST          0x0020 /* STP: 1 = BOOST output on (increased torque) */
+#define AX_CTRL_TURBO          0x0040 /* STP: step clock x10 (table 4.1) */
+#define AX_CTRL_PULSE_IE       0x0080 /* STP: AX_IN_PULSE set by every output pulse, level 5 */
+#define AX_CTRL_PULSE_ACK      0x0100 /* STP, W 1: clear AX_IN_PULSE and AX_IN_PULSE_OVR */
+#define AX_CTRL_DONE_IE        0x0200 /* STP: interrupt when the pulse down-counter ends */
+#define AX_CTRL_DONE_ACK       0x0400 /* STP, W 1: clear AX_IN_PDONE */
 #define AX_DAC                 0x0C  /* W: INC/SSI, signed 12 bit, -2048..2047 = -10..+10 V */
 #define AX_RATE                0x0C  /* W: STP, 16-bit step rate */
 #define AX_SSI_START           0x0E  /* W: start a 26-clock SSI read */
 #define AX_SSI_HI              0x10  /* R: SSI shift register bits 16-25 */
 #define AX_SSI_LO              0x12
-#define AXIS_IRQ_PENDING       (AXIS_BASE + 0x800) /* R: bit n index, bit 4+n pulse */
+/* The 26 received bits enter the shift register MSB first from bit 0
+ * upwards, so after a read an N-bit encoder word sits left-aligned: its MSB
+ * in bit 25, its LSB in bit 26-N, zeros below (the data line is low after
+ * the LSB).  The firmware shifts right by <sc> = 26 - N (diagram 4.5).
+ * While AX_IN_SSI_BUSY the register shows the bits shifted in so far. */
+#define SSI_CLOCKS             26
+#define AX_PULSES              0x14  /* RW: STP pulse down-counter: W n>0 emit exactly n more
+                                      * pulses then stop (AX_IN_PDONE), W 0 free running;
+                                      * R pulses still to come */
+#define AXIS_IRQ_PENDING       (AXIS_BASE + 0x800) /* R: bit n index, bit 4+n pulse,
+                                                    * bit 8+n pulse count done */
+#define AXIS_IRQ_IDX(n)        (1u << (n))
+#define AXIS_IRQ_PULSE(n)      (0x10u << (n))
+#define AXIS_IRQ_DONE(n)       (0x100u << (n))
+
+/* Step generator (STP, manual table 4.1): a 16-bit phase accumulator adds
+ * AX_RATE at STP_CLK_HZ (x10 with TURBO) and emits a pulse at each carry,
+ * so f = rate * STP_CLK_HZ / 65536 = rate * 0.7629 Hz (TURBO 7.629 Hz). */
+#define STP_CLK_HZ             MAC4_U(50000)
+#define STP_CLK_HZ_TURBO       MAC4_U(500000)
+#define STP_PULSE_US           10    /* output pulse length, TURBO: 1 us */
+#define STP_PULSE_US_TURBO     1
 
 #define DAC_MIN                (-2048)
 #define DAC_MAX                2047

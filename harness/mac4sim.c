@@ -7,6 +7,8 @@
 #include <string.h>
 #include "cpu.h"
 #include "script.h"
+#include "profile.h"
+#include "serial_host.h"
 
 static sim_t card;
 
@@ -21,23 +23,21 @@ static void usage(FILE *f)
             "  --irq-level N        VMEbus interrupt level of LB1/LB2 (1..7, default 3)\n"
             "  --j11 in|out         watchdog reset jumper J11 (default in)\n"
             "  --allow-faults       exit 0 even when the emulator saw faults\n"
+            "  --serial-pty         front-panel serial line on a pseudo-terminal (prints\n"
+            "                       'serial-pty /dev/pts/N'); after the script the card\n"
+            "                       keeps running in real time until the pty is closed\n"
+            "  --serve-seconds N    with --serial-pty: stop serving after N seconds\n"
             "  --help               this text\n"
             "Exit status: 0 ok, 1 usage or script error, 3 emulator faults seen.\n");
 }
 
-long script_code(const char *tok)
-{
-    char *end;
-    long v = strtol(tok, &end, 0);
-    if (end != tok && !*end && v >= 0 && v <= 0xFFFF)
-        return v;
-    return -1;
-}
 
 int main(int argc, char **argv)
 {
     const char *cardname = "inc", *image = NULL, *script = "-";
     int allow_faults = 0, timestamps = 0, level = 3, j11 = 1;
+    int serial_pty = 0;          /* --serial-pty, --serve-seconds: docs/serial.md */
+    double serve_seconds = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *val = (i + 1 < argc) ? argv[i + 1] : NULL;
@@ -63,6 +63,16 @@ int main(int argc, char **argv)
             timestamps = 1;
         } else if (!strcmp(a, "--allow-faults")) {
             allow_faults = 1;
+        } else if (!strcmp(a, "--serial-pty")) {
+            serial_pty = 1;
+        } else if (!strcmp(a, "--serve-seconds") && val) {
+            char *end;
+            serve_seconds = strtod(val, &end);
+            if (end == val || *end || !(serve_seconds > 0)) {
+                fprintf(stderr, "mac4sim: bad --serve-seconds '%s'\n", val);
+                return 1;
+            }
+            i++;
         } else {
             fprintf(stderr, "mac4sim: unknown or incomplete option '%s'\n", a);
             usage(stderr);
@@ -93,7 +103,18 @@ int main(int argc, char **argv)
                 n == -2 ? " (empty or larger than 64 KiB)" : "");
         return 1;
     }
-    sim_attach_cpu(&card, &cpu_m68k);
+    {   /* symbols for `profile report`: the .sym the build writes beside the image */
+        char sym[4200];
+        snprintf(sym, sizeof sym, "%s", image);
+        char *dot = strrchr(sym, '.');
+        if (dot && !strcmp(dot, ".bin")) {
+            strcpy(dot, ".sym");
+            profile_load_symbols(sym);
+        }
+    }
+    if (serial_host_init(&card, serial_pty))
+        return 1;
+    sim_attach_cpu(&card, serial_host_cpu(&cpu_m68k));
 
     FILE *in = strcmp(script, "-") ? fopen(script, "r") : stdin;
     if (!in) {
@@ -101,11 +122,12 @@ int main(int argc, char **argv)
         return 1;
     }
     script_t sc = {script, 0, 0};
-    int errors = script_run(&sc, &card, in);
+    int errors = serial_host_script_run(&sc, &card, in);
     if (in != stdin)
         fclose(in);
     if (errors)
         return 1;
+    serial_host_serve(&card, serve_seconds);
     if (card.faults && !allow_faults)
         return 3;
     return 0;

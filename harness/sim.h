@@ -12,6 +12,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include "mac4_map.h"
+#include "plant.h"   /* plant models behind the axis boards (added for harness/plant.c) */
 
 typedef uint64_t cyc_t;
 #define CYC_NEVER UINT64_MAX
@@ -78,6 +79,9 @@ typedef struct {
     uint16_t rate;
     uint32_t ssi;                  /* last SSI shift register */
     int gray;                      /* SSI jumper J1 open */
+    /* ---- added for the plant models (harness/plant.c, docs/plant.md) ---- */
+    uint16_t pstat;                /* STP: AX_IN_PULSE, AX_IN_PULSE_OVR, AX_IN_PDONE */
+    /* ---- end of plant additions ---- */
 } axis_hw_t;
 
 typedef struct sim {
@@ -95,6 +99,9 @@ typedef struct sim {
     vme_t vme;
     wdg_t wdg;
     axis_hw_t ax[MAC4_NAXES];
+    /* ---- added: the plant models behind the axis boards (harness/plant.c) ---- */
+    plant_t plant;
+    /* ---- end of plant additions ---- */
     uint16_t free_lo_latch;
 
     cyc_t slice_base;              /* cycle count at the start of the CPU slice */

@@ -10,7 +10,7 @@ ON_FLY_INIT = ubits("init", "on_fly")
 
 # ---- the manual's example, 7.3.1 --------------------------------------------
 def test_manual_example_7_3_1():
-    r = run(ENABLE + ["counter 0 1000", "run 10", (0, 70, 16), (0, 59), (0, 3), (0, 116), (0, 1)])
+    r = run(ENABLE + ["run 5", "counter 0 1000", "run 10", (0, 70, 16), (0, 59), (0, 3), (0, 116), (0, 1)])
     resps = r.resps()
     assert resps[:3] == [(0, 2, ON_FLY_INIT), (0, 52, ON_FLY_INIT), (0, 3, ON_FLY_INIT | ubits("dr_en", mode="enable"))]
     # the manual shows $02000101, $02000101, $02000108, 1000, $02002108 without

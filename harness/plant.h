@@ -1,0 +1,170 @@
+/*
+ * plant.h - what sits behind the axis interface boards: DC servo motors with
+ * their amplifiers (MAC4-INC/SSI), stepper motors with their drivers
+ * (MAC4-STP), incremental and SSI encoders, limit and reference switches,
+ * and the VME slave boards the card can read as a bus master.
+ * docs/plant.md gives the equations, defaults and reasons.
+ *
+ * Included by sim.h (the plant lives inside sim_t), so it only uses
+ * standard types and a forward declaration of struct sim.
+ */
+#ifndef PLANT_H
+#define PLANT_H
+#include <stdint.h>
+#include <stdio.h>
+
+struct sim;
+
+/* The mechanics are integrated at a fixed step on a grid of absolute time
+ * (multiples of PLANT_STEP_CYC 68000 cycles); an input change (DAC write,
+ * enable, emergency stop, step-rate write) cuts the step at the cycle it
+ * happens.  Between grid points positions are linear in time. */
+#define PLANT_STEP_CYC 1600u             /* 100 us */
+
+#define SSI_FRAME_BITS 26                /* clocks per SSI read (manual 2.3.2) */
+#define SSI_FRAME_MASK 0x3FFFFFFu
+
+enum { PLANT_AMP_VELOCITY, PLANT_AMP_CURRENT };
+enum { PLANT_ENC_OK, PLANT_ENC_FROZEN, PLANT_ENC_STUCK0, PLANT_ENC_STUCK1 };
+enum { PLANT_SW_LP, PLANT_SW_LN, PLANT_SW_REF, PLANT_NSW };
+enum { PLANT_PULSES_FREE, PLANT_PULSES_COUNTING, PLANT_PULSES_DONE };
+
+typedef struct {
+    int used;                  /* a switch is wired (else the input floats at 24 V) */
+    int high;                  /* high active: 24 V when on (table 2.4) */
+    int64_t pos;               /* lp: on at pos and beyond, ln: at pos and below */
+    int64_t width;             /* ref: on for pos <= x < pos + width */
+} plant_switch_t;
+
+typedef struct {
+    /* Parameters first, up to enc_fault; the state starts at t0
+     * (plant_params_defaults copies the parameters only). */
+    /* ---- DC servo: amplifier, motor and load (MAC4-INC/SSI) ---- */
+    int amp;                   /* PLANT_AMP_VELOCITY or PLANT_AMP_CURRENT */
+    double rpm10;              /* velocity mode: motor rpm commanded by +10 V */
+    double tau;                /* velocity mode: speed-loop time constant, s */
+    double amps10;             /* current mode: A commanded by +10 V */
+    double imax;               /* amplifier current limit, A */
+    double kt;                 /* torque constant, N m/A */
+    double inertia;            /* at the motor shaft, kg m^2 */
+    double visc;               /* viscous friction, N m s/rad */
+    double coulomb;            /* Coulomb (and static) friction, N m */
+    double load;               /* external torque, N m (positive pushes positive) */
+    /* ---- stepper motor and driver (MAC4-STP) ---- */
+    double steps_rev;          /* driver steps per motor revolution */
+    double ssf;                /* start/stop frequency, Hz (largest rate jump it follows) */
+    double accel;              /* torque limit as acceleration, steps/s^2 */
+    double fmax;               /* no torque left at this rate, Hz (0: no limit) */
+    double boost;              /* ssf and accel factor while BOOST is on */
+    /* ---- mechanics shared by both ---- */
+    double gear;               /* motor revolutions per output revolution */
+    /* ---- sensors ---- */
+    uint32_t lines;            /* incremental encoder lines per output revolution */
+    uint32_t index;            /* the index increment within a revolution */
+    int ssi_bits;              /* SSI encoder word width, 1..24 */
+    double ssi_res;            /* SSI counts per output revolution */
+    int br_steps;              /* STP: solder bridge BR closed, counter counts steps */
+    plant_switch_t sw[PLANT_NSW];
+    int df_high;               /* drive-fault line is high active */
+    int drive_fault;           /* injected: DF active and the power stage off */
+    int enc_fault;             /* PLANT_ENC_* */
+
+    /* ---- state: mechanics, piecewise linear between t0 and t1 ---- */
+    uint64_t t0, t1;           /* t1 = CYC_NEVER: at rest, nothing changes */
+    double x0, v0, x1, v1;     /* servo: motor rev, rad/s; stepper: rotor steps, steps/s */
+    double in_u;               /* inputs the current step was computed with */
+    int in_en, in_boost;
+    uint64_t t_sync;           /* the models are up to date until here */
+    /* stepper */
+    int sync;                  /* the rotor follows the driver's field */
+    int64_t cmd;               /* the driver's field position, steps (pulses while enabled) */
+    int64_t gen;               /* pulses generated, signed by DIR */
+    int64_t off;               /* rotor = cmd + off while in sync */
+    int64_t lost_base;         /* gen - rotor after the last `plant N pos` */
+    /* step generator: 16-bit phase accumulator clocked at 50 or 500 kHz */
+    uint32_t acc;
+    uint64_t nco_t;            /* clock edges up to this cycle are done */
+    int pmode;                 /* PLANT_PULSES_* */
+    uint32_t remaining;        /* AX_PULSES */
+    /* position counter and index */
+    int64_t cnt_off;           /* counter = raw + cnt_off (mod 2^24) */
+    uint32_t cnt_frozen;       /* the value while the encoder is frozen */
+    uint32_t cnt_seen;         /* what we last left in axis_hw_t.counter */
+    int64_t raw_seen;
+    double idx_chk;            /* encoder position at the last index check ... */
+    uint64_t idx_chk_t;        /* ... and when it was */
+    uint64_t t_idx;            /* predicted index crossing */
+    double idx_b;              /* ... at this boundary */
+    int idx_dir;
+    /* SSI */
+    int64_t ssi_off;
+    uint32_t ssi_frozen;
+    uint64_t ssi_start, ssi_end;
+    uint32_t ssi_old, ssi_frame;
+    /* trace */
+    FILE *trace;
+    uint64_t trace_next, trace_iv;
+} plant_axis_t;
+
+#define PLANT_NVME 8
+typedef struct {
+    int used;
+    uint32_t base;             /* A24 address */
+    int axis;                  /* the axis whose shaft turns it */
+    int motor_shaft;           /* on the motor shaft instead of the output shaft */
+    int bits;                  /* 1..32: one word up to 16 bits, two words above */
+    double res;                /* counts per revolution */
+    uint64_t turns;            /* revolutions before the value wraps (0: 2^bits wraps) */
+    int64_t offset;
+    uint32_t latch;            /* 32-bit boards: value latched by reading the LSW */
+    int latched;
+} plant_vme_t;
+
+typedef struct plant {
+    int init;                  /* defaults set (survives card resets, not sim_init) */
+    int ssi_clock;             /* jumper J2: 0..3 = A..D (table 2.8) */
+    plant_axis_t ax[4];
+    plant_vme_t vme[PLANT_NVME];
+} plant_t;
+
+/* plant.c: models, called by axisboard.c */
+void plant_reset(struct sim *s);                 /* card reset: board state, not mechanics */
+void plant_sync(struct sim *s, int n, uint64_t now);
+void plant_inputs(struct sim *s, int n, uint64_t now);   /* after a register write */
+uint64_t plant_next_event(struct sim *s);
+void plant_events(struct sim *s, uint64_t now);
+uint32_t plant_counter(struct sim *s, int n, uint64_t now);
+void plant_counter_set(struct sim *s, int n, uint64_t now, uint32_t value);
+void plant_idx_arm(struct sim *s, int n, uint64_t now);
+uint16_t plant_inputs_word(struct sim *s, int n, uint64_t now);   /* AX_IN switch bits */
+void plant_ssi_start(struct sim *s, int n, uint64_t now);
+uint32_t plant_ssi_reg(struct sim *s, int n, uint64_t now);
+int plant_ssi_busy(struct sim *s, int n, uint64_t now);
+uint64_t plant_ssi_cycles(int clock);            /* 26 SSI clocks in CPU cycles */
+void plant_pulses_write(struct sim *s, int n, uint64_t now, uint16_t v);
+
+/* configuration and observation (script_plant.c, tests) */
+void plant_axis_defaults(struct sim *s, int n);     /* parameters and state */
+void plant_params_defaults(struct sim *s, int n);   /* parameters only */
+void plant_changed(struct sim *s, int n);        /* after editing plant_axis_t fields */
+void plant_set_position(struct sim *s, int n, double units);
+void plant_set_enc_fault(struct sim *s, int n, int mode);   /* PLANT_ENC_* */
+void plant_enc_jump(struct sim *s, int n, int64_t by);
+void plant_step_counts(struct sim *s, int n, int64_t *generated, int64_t *lost);   /* STP */
+double plant_units(struct sim *s, int n, uint64_t t);        /* increments, SSI counts or steps */
+double plant_units_per_s(struct sim *s, int n, uint64_t t);
+double plant_units_per_rev(struct sim *s, int n);            /* per output revolution */
+double plant_motor_rpm(struct sim *s, int n, uint64_t t);
+int plant_switch_active(struct sim *s, int n, int which, uint64_t t);
+uint32_t plant_ssi_value(struct sim *s, int n, uint64_t t);  /* binary, before J1 coding */
+int plant_trace_start(struct sim *s, int n, const char *path, uint64_t interval_cyc);
+void plant_trace_stop(struct sim *s, int n);
+void plant_format(struct sim *s, int n, char *buf, size_t len);   /* one line, no newline */
+
+/* plant_vme.c: slave boards in the VMEbus master window */
+int plant_vme_add(struct sim *s, uint32_t base, int axis, int bits, double res, uint64_t turns,
+                  int64_t offset, int motor_shaft);
+int plant_vme_remove(struct sim *s, uint32_t base);
+uint32_t plant_vme_value(struct sim *s, const plant_vme_t *b, uint64_t t);
+
+#endif
