@@ -20,11 +20,11 @@ card_stp := 2
 FW_SRCS  := $(wildcard firmware/*.c)
 TGT_SRCS := hal/target/hal_target.c hal/target/runtime.c
 TGT_ASM  := hal/target/crt0.S hal/target/vectors.S
-FW_HDRS  := $(wildcard firmware/*.h hal/*.h hal/target/*.h)
+FW_HDRS  := $(wildcard firmware/*.h firmware/*.def hal/*.h hal/target/*.h) Makefile
 
 WARN     := -Wall -Wextra -Werror -Wconversion -Wshadow -Wstrict-prototypes -Wmissing-prototypes
-CFLAGS68 := -m68000 -ffreestanding -nostdlib -fno-pic -fno-builtin -std=c11 -O2 \
-            -fstack-usage -ffunction-sections -fno-store-merging -fno-expensive-optimizations $(WARN) -Ihal -Ihal/target -Ifirmware -DHAL_TARGET
+CFLAGS68 := -m68000 -ffreestanding -nostdlib -fno-pic -fno-builtin -std=c11 -Os \
+            -fstack-usage -ffunction-sections -mstrict-align -fno-store-merging -fno-expensive-optimizations $(WARN) -Ihal -Ihal/target -Ifirmware -DHAL_TARGET
 LDFLAGS68 := -m68000 -nostdlib -static -T linker/mac4.ld -Wl,--gc-sections -Wl,--build-id=none -Wl,--fatal-warnings
 
 HOSTWARN := -Wall -Wextra -Werror
@@ -37,7 +37,8 @@ MUSCFLAGS := -std=gnu99 -O2 -g -w -I$(MUS) -Iharness -Ihal -DMUSASHI_CNF='"musas
 HARNESS_CORE := harness/sim.c harness/bus.c harness/periph.c harness/axisboard.c harness/host.c harness/run.c \
                 harness/plant.c harness/plant_vme.c
 HARNESS_SRCS := $(HARNESS_CORE) \
-                harness/script.c harness/script_serial.c harness/serial_host.c harness/script_plant.c harness/cpu_m68k.c harness/profile.c harness/cmdnames.c harness/mac4sim.c
+                harness/script.c harness/script_serial.c harness/serial_host.c harness/script_plant.c harness/cpu_m68k.c harness/profile.c harness/cmdnames.c harness/mac4sim.c \
+                harness/perf.c
 HARNESS_HDRS := $(wildcard harness/*.h) hal/mac4_map.h firmware/commands.def
 
 IMAGES := $(foreach c,$(CARDS),$(B)/eprom/mac4-$(c).bin)
@@ -121,3 +122,7 @@ demo: all
 
 clean:
 	rm -rf $(B)
+
+# ---- hardening: fuzz corpus replay, 68000 check, cppcheck, qemu witness -----
+# (docs/hardening.md)
+include tests/fuzz/fuzz.mk

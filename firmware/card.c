@@ -11,6 +11,7 @@
 #include "params.h"
 #include "measure.h"
 #include "serial.h"
+#include "motion.h"
 
 axis_t axes[MAC4_NAXES];
 uint32_t card_ostat;
@@ -60,9 +61,10 @@ void vme_irq_service(void)
 int axis_standstill(unsigned n)
 {
     uint8_t m = axes[n].mode;
-    /* no profile generator yet: only the motion modes move an axis */
-    return m == M_DISABLE || m == M_ENABLE || m == M_BRAKE || m == M_TEST ||
-           (m == M_POSITIONING && (axes[n].ustat & UB(POS_END)));
+    if (m == M_DISABLE || m == M_TEST)
+        return 1;
+    return motion_at_rest(n) && !motion_busy(n) && m != M_SPEED && m != M_VEL_TRACK &&
+           m != M_POS_TRACK && !axes[n].stop_then;
 }
 
 void axis_set_mode(unsigned n, uint8_t mode)
@@ -76,7 +78,12 @@ void axis_set_mode(unsigned n, uint8_t mode)
         x->ustat |= UB(DR_EN);
 }
 
-void axis_disable(unsigned n) { axis_set_mode(n, M_DISABLE); }
+void axis_disable(unsigned n)
+{
+    axis_set_mode(n, M_DISABLE);
+    axes[n].stop_then = STOP_NONE;
+    axes[n].next_mode = NO_MODE;
+}
 
 void axis_error(unsigned n, uint32_t ubit, uint16_t code)
 {
@@ -85,6 +92,40 @@ void axis_error(unsigned n, uint32_t ubit, uint16_t code)
 }
 
 void axis_init_measurement(unsigned n) { measure_init(n); }
+
+void axis_prepare(unsigned n)
+{
+    axis_t *x = &axes[n];
+    int32_t et = PAR(n, ET);
+    x->mk = (MAC4_CARD != MAC4_CARD_SSI && et <= 1) ? MK_COUNTER : MK_OTHER;
+    x->linear = PAR(n, SH) == 1;
+    x->cr = PAR(n, CR);
+    x->lp = PAR(n, LP);
+    x->ln = PAR(n, LN);
+    x->mf = PAR(n, MF);
+    /* switch configuration (4.5): 0 off, 1 low active, 2 high active */
+    static const uint16_t bits[4] = {AX_IN_IESP, AX_IN_IESN, AX_IN_RS, AX_IN_DF};
+    int32_t cfg[4] = {PAR(n, PS), PAR(n, NS), PAR(n, RS), PAR(n, DF)};
+    x->sw_en = x->sw_inv = 0;
+    for (unsigned i = 0; i < 4; i++) {
+        if (cfg[i])
+            x->sw_en |= bits[i];
+        if (cfg[i] == 2)
+            x->sw_inv |= bits[i];
+    }
+}
+
+void axis_set_pos(unsigned n)
+{
+    axis_t *x = &axes[n];
+    int32_t pos = (int32_t)((uint32_t)x->meas + (uint32_t)PAR(n, AO));
+    if (!x->linear) {
+        pos %= x->cr;          /* main loop only: a division is fine here */
+        if (pos < 0)
+            pos += x->cr;
+    }
+    x->pos = pos;
+}
 
 static void axis_outputs_reset(unsigned n)
 {
@@ -113,6 +154,8 @@ void card_reset(void)
     card_ostat = 0;
     card_err_report = 0;
     card_ticks = 0;
+    card_profile_due = 0;
+    card_profile_late = 0;
     estop_seen = 0;
     virq_head = virq_tail = 0;
     cmd_reset();
@@ -127,23 +170,26 @@ void card_start(void)
     hal_irq_enable_all();
 }
 
+volatile uint8_t card_profile_due;
+uint16_t card_profile_late;
+
+/* The profile generator runs in the main loop, one SP ahead of the servo
+ * ticks that interpolate its segments: the tick stays short, and the
+ * profile has a whole SP to finish (7.4).  Each axis with interrupts masked,
+ * so a tick never sees half a segment or half a mode change. */
 void card_profile_tick(void)
 {
-    /* Profile generator: comes with the servo and stepper issues. */
+    if (!card_profile_due)
+        return;
+    card_profile_due = 0;
+    for (unsigned n = 0; n < MAC4_NAXES; n++) {
+        unsigned prev = hal_irq_save();
+        motion_profile_tick(n);
+        hal_irq_restore(prev);
+    }
 }
 
 /* ---- the tick ------------------------------------------------------------ */
-/* Switch inputs as configured (4.5): 0 off, 1 low active, 2 high active.
- * AX_IN bits are 1 when the input is at 0 V. */
-static int switch_on(uint16_t in, uint16_t bit, int32_t cfg)
-{
-    if (cfg == 1)
-        return (in & bit) != 0;
-    if (cfg == 2)
-        return (in & bit) == 0;
-    return 0;
-}
-
 static void stop_bits(void)
 {
     /* 3.5.1: bits 1, 3, 5, 7 at $4600; accepted in either byte of the word */
@@ -167,6 +213,12 @@ static void stop_bits(void)
     hal_wr16(DP_STOP_BITS, (uint16_t)(now & ~(bits | (uint16_t)(bits << 8))));
 }
 
+/* AX_IN switch bits (IESP, IESN, RS) -> user status bits */
+static const uint32_t sw_ustat[8] = {
+    0, UB(HWL_P), UB(HWL_N), UB(HWL_P) | UB(HWL_N), UB(REF), UB(REF) | UB(HWL_P),
+    UB(REF) | UB(HWL_N), UB(REF) | UB(HWL_P) | UB(HWL_N),
+};
+
 static void axis_inputs(unsigned n)
 {
     axis_t *x = &axes[n];
@@ -180,19 +232,14 @@ static void axis_inputs(unsigned n)
     }
     if (!axis_initialised(n))
         return;                                   /* switches count after INIT (4.9) */
-    uint32_t sw = 0;
-    if (switch_on(in, AX_IN_IESP, PAR(n, PS)))
-        sw |= UB(HWL_P);
-    if (switch_on(in, AX_IN_IESN, PAR(n, NS)))
-        sw |= UB(HWL_N);
-    if (switch_on(in, AX_IN_RS, PAR(n, RS)))
-        sw |= UB(REF);
+    uint16_t active = (uint16_t)((in ^ x->sw_inv) & x->sw_en);
+    uint32_t sw = sw_ustat[active & 7u];
     uint32_t prev = x->ustat;
     x->ustat = (x->ustat & ~(UB(HWL_P) | UB(HWL_N) | UB(REF))) | sw;
 
-    if (switch_on(in, AX_IN_DF, PAR(n, DF)) && x->mode != M_DISABLE) {
-        axis_error(n, UB(DR_F), ERR_LOGICAL);     /* 6.3.4 drive fault */
-        axis_disable(n);                          /* the ramp comes with the servo issue */
+    if ((active & AX_IN_DF) && x->mode != M_DISABLE && !(x->ustat & UB(DR_F))) {
+        axis_error(n, UB(DR_F), ERR_LOGICAL);     /* 6.3.4 drive fault: ramp <ed>, disable */
+        motion_emergency(n, STOP_DISABLE);
         vme_irq((uint8_t)PAR(n, IRQ3));
     }
     /* 5.13: a limit switch reached in test mode turns the axis off; it can
@@ -201,15 +248,12 @@ static void axis_inputs(unsigned n)
         axis_disable(n);
 }
 
-static void axis_output(unsigned n)
+static void axis_output(unsigned n, int32_t out)
 {
     axis_t *x = &axes[n];
     uint16_t ctrl = (uint16_t)(x->ctrl & ~AX_CTRL_EN);
-    int32_t out = 0;
     if (x->mode != M_DISABLE)
         ctrl |= AX_CTRL_EN;
-    if (x->mode == M_TEST)
-        out = PAR(n, DA);                       /* 5.13: straight out, USR has no effect */
 #if MAC4_CARD == MAC4_CARD_STP
     if (x->sstat & SB(TURBO))
         ctrl |= AX_CTRL_TURBO;
@@ -280,17 +324,22 @@ void fw_isr_tick(void)
     for (unsigned n = 0; n < MAC4_NAXES; n++) {
         measure_axis(n);
         axis_inputs(n);
-        axis_output(n);
     }
+    unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
+    if (phase == 0) {                             /* SP boundary: take the prepared segments */
+        for (unsigned n = 0; n < MAC4_NAXES; n++)
+            if (motion_segment(n))
+                card_profile_late++;
+        card_profile_due = 1;
+    }
+    for (unsigned n = 0; n < MAC4_NAXES; n++)
+        axis_output(n, motion_servo_tick(n, phase));
     /* One axis' DPRAM data per tick: each is fresh every profile period
      * (10 ms / 32 ms), at a quarter of the cost. */
-    unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
     publish(phase);
     card_ticks++;
-    if (phase == 0) {
-        card_profile_tick();
+    if (phase == 0)
         leds();
-    }
     hal_wr32(DPC_TICKS, card_ticks);
     hal_wr32(DPC_OSTAT, card_ostat);
     vme_irq_service();
@@ -355,6 +404,7 @@ void fw_main_step(void)
 {
     if (!cmd_mr_pending())
         hal_wr16(WDG_KICK, 0);
+    card_profile_tick();
     cmd_poll();
     vme_irq_service();
     display_update();

@@ -3,6 +3,8 @@
 #define CARD_H
 #include <stdint.h>
 #include "status.h"
+#include "profile.h"
+#include "servo.h"
 
 typedef struct {
     uint32_t ustat;     /* user status, manual 7.1.1 (RBS); bits 0-7 = mode */
@@ -22,7 +24,43 @@ typedef struct {
     int32_t setpoint;
     int32_t ferr;
     int32_t zp_value;   /* last WZP value, read back by RZP */
+    /* profile generator (motion.c), measurement frame, Q16 */
+    prof_t prof;
+    int64_t seg_start;  /* the SP segment the servo ticks interpolate (tick side) */
+    int64_t seg_end;
+    int64_t seg_step;
+    int64_t nx_start;   /* the next SP's segment, prepared by the main loop */
+    int64_t nx_end;
+    uint8_t nx_ready;
+    int64_t target;     /* positioning target */
+    int32_t edge;       /* justification: position of the edge / index found */
+    uint8_t phase;      /* phase of a justification mode */
+    uint8_t done;       /* the move of the current mode is complete */
+    uint8_t stop_then;  /* protective stop in progress: STOP_* */
+    uint8_t idx_seen;   /* index latched during a search */
+    uint16_t trt_count;
+    uint16_t trt_periods;
+    /* position controller (servo.c) */
+    servo_gains_t gains;
+    servo_state_t servo;
+    /* the tick's copy of what it needs from the parameters, prepared in the
+     * main loop at INIT and E (axis_prepare) so the tick never looks up */
+    int32_t sp_i;       /* setpoint, integer part */
+    uint16_t sp_f;      /* and Q16 fraction */
+    uint8_t mk;         /* measurement kind, MK_* */
+    uint8_t linear;     /* <sh> == 1 */
+    int32_t cr, lp, ln, mf;
+    uint16_t sw_en;     /* AX_IN bits of the switches that are configured */
+    uint16_t sw_inv;    /* ... and those that are high active */
 } axis_t;
+
+#define MK_COUNTER 0    /* internal 24-bit counter: the fast path */
+#define MK_OTHER 1      /* SSI, external VMEbus or DPRAM: measure.c */
+
+#define STOP_NONE 0
+#define STOP_DISABLE 1  /* emergency ramp <ed>, then disable */
+#define STOP_HOLD 2     /* emergency ramp <ed>, then hold in mode brake */
+#define STOP_DEINIT 3   /* DEINIT: stop with <ed>, disable, clear init (4.9) */
 
 #define NO_MODE 0xFF
 
@@ -33,7 +71,9 @@ extern uint32_t card_ticks;     /* servo ticks since reset */
 
 void card_reset(void);          /* outputs to reset state, defaults */
 void card_start(void);          /* timer, serial, interrupts */
-void card_profile_tick(void);   /* profile generator, every PROFILE_DIVIDER ticks */
+void card_profile_tick(void);   /* profile generator: the next SP's segments (main loop) */
+extern volatile uint8_t card_profile_due;   /* set by the tick at each SP boundary */
+extern uint16_t card_profile_late;          /* SP boundaries without a prepared segment */
 
 /* Axis state changes used by commands and by the protective reactions. */
 void axis_set_mode(unsigned n, uint8_t mode);
@@ -42,6 +82,8 @@ void axis_error(unsigned n, uint32_t ubit, uint16_t code);  /* set bit, report c
 int axis_standstill(unsigned n);
 static inline int axis_initialised(unsigned n) { return (axes[n].ustat & UB(INIT)) != 0; }
 void axis_init_measurement(unsigned n);    /* INIT: derive ea/eb/ec, zero relative position */
+void axis_prepare(unsigned n);             /* main loop: refresh the tick's copies */
+void axis_set_pos(unsigned n);             /* main loop: pos from meas and <ao>, wrapped */
 
 /* VMEbus interrupts (4.6): vector 0 = off. */
 void vme_irq(uint8_t vector);

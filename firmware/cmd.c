@@ -17,6 +17,7 @@
 #include "cmd.h"
 #include "params.h"
 #include "serial.h"
+#include "motion.h"
 
 /* ---- the command table -------------------------------------------------- */
 enum { CK_GEN_, CK_READ_, CK_MODE, CK_WPAR, CK_RPAR, CK_DIAG };
@@ -69,6 +70,8 @@ static uint8_t last_valid_axis; /* for interrupt 2 of a false axis number (6.3.1
 static uint8_t mr_pending;      /* MR accepted: stop retriggering the watchdog */
 static uint32_t wd_last_us;     /* time of the last command, for <wd> */
 static uint8_t wd_fired;
+static mac4_msg_t held;          /* off-fly: a command waiting for the move (5.15) */
+static uint8_t have_held;
 
 void cmd_reset(void)
 {
@@ -77,6 +80,7 @@ void cmd_reset(void)
     mr_pending = 0;
     wd_fired = 0;
     wd_last_us = 0;
+    have_held = 0;
 }
 
 int cmd_mr_pending(void) { return mr_pending; }
@@ -162,7 +166,7 @@ static int write_param(unsigned a, unsigned p, int32_t v)
             /* <ao> such that the actual position becomes v (4.3.2) */
             int32_t ao = (int32_t)((uint32_t)v - (uint32_t)axes[a].meas);
             par_w[P_AO][a] = par_a[P_AO][a] = ao;
-            axes[a].pos = v;
+            axis_set_pos(a);
         }
         axes[a].zp_value = v;
         break;
@@ -242,11 +246,19 @@ static int do_execute(unsigned a)
     if (r)
         return r;
     params_activate(a, PK_MODE);
+    axis_prepare(a);
     axes[a].next_mode = NO_MODE;
     /* pos_end, jus_end and LED P are cleared only by the next E (5.6) */
     axes[a].ustat &= ~(UB(POS_END) | UB(JUS_END));
     axes[a].sstat &= ~SB(IN_POS);
-    axis_set_mode(a, target == M_UE ? M_ENABLE : target);
+    uint8_t from = axes[a].mode;
+    uint8_t mode = target == M_UE ? M_ENABLE : target;
+    if (mode == M_DISABLE) {
+        axis_disable(a);
+    } else {
+        axis_set_mode(a, mode);
+        motion_start(a, mode, from);
+    }
     return 0;
 }
 
@@ -274,9 +286,13 @@ static int do_general(int ci, unsigned a, uint32_t p)
         return do_init(a);
     case CI_E:
         return do_execute(a);
-    case CI_DEINIT:
-        axis_disable(a);
-        axes[a].ustat &= ~UB(INIT);
+    case CI_DEINIT:                               /* 4.9: stop, disable, deinitialise */
+        if (axis_standstill(a) || axes[a].mode == M_TEST) {
+            axis_disable(a);
+            axes[a].ustat &= ~UB(INIT);
+        } else {
+            motion_emergency(a, STOP_DEINIT);
+        }
         axes[a].next_mode = NO_MODE;
         return 0;
     case CI_MR:
@@ -453,20 +469,28 @@ static void watchdog_check(void)
     wd_fired = 1;
     unsigned prev = hal_irq_save();
     for (unsigned n = 0; n < MAC4_NAXES; n++)
-        if (axes[n].mode != M_DISABLE)
-            axis_disable(n);
+        motion_emergency(n, STOP_DISABLE);
     card_ostat |= OB(WATCH_F);
     card_err_report = ERR_WATCHDOG;
     hal_irq_restore(prev);
 }
 
+static void execute_and_respond(const mac4_msg_t *in);
+
 void cmd_poll(void)
 {
-    mac4_msg_t in, out;
+    mac4_msg_t in;
     serial_poll();
     watchdog_check();
     if (mr_pending)
         return;             /* the watchdog resets the card soon */
+    if (have_held) {        /* nothing overtakes a held command */
+        if (motion_busy(held.axis) && !(axes[held.axis].ustat & UB(ON_FLY)))
+            return;
+        have_held = 0;
+        execute_and_respond(&held);
+        return;
+    }
     /* One command per pass, alternating between the two interfaces so
      * neither can starve the other. */
     static uint8_t turn;
@@ -495,8 +519,20 @@ void cmd_poll(void)
         have = serial_get(&in);
     if (!have)
         return;
+    if (in.axis < MAC4_NAXES && !(axes[in.axis].ustat & UB(ON_FLY)) && motion_busy(in.axis)) {
+        held = in;                       /* off-fly: strictly in series (5.15) */
+        have_held = 1;
+        wd_last_us = now_us();
+        return;
+    }
+    execute_and_respond(&in);
+}
+
+static void execute_and_respond(const mac4_msg_t *in)
+{
+    mac4_msg_t out;
     unsigned prev = hal_irq_save();   /* the tick sees a command whole or not at all */
-    cmd_execute(&in, &out);
+    cmd_execute(in, &out);
     hal_irq_restore(prev);
     respond(&out);
 }

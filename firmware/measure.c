@@ -94,36 +94,45 @@ void measure_axis(unsigned n)
     axis_t *x = &axes[n];
     if (!axis_initialised(n))
         return;                                         /* position reads 0 before INIT (4.9) */
-    uint32_t raw;
-    if (read_raw(n, &raw)) {
-        axis_error(n, UB(ENCODER_F) | UB(LOGO_F), ERR_LOGICAL);
-        axis_disable(n);                                /* 6.3.8: without a ramp */
-        return;
-    }
-    int32_t et = PAR(n, ET), eb = PAR(n, EB), ec = PAR(n, EC);
-    raw &= eb_mask(eb);
-    int32_t before = x->meas;
-    if (et == 2 || et == 4) {                           /* absolute */
-        if (ec > 0 && raw >= (uint32_t)ec) {
+    int32_t d;
+    if (x->mk == MK_COUNTER) {
+        /* the common case, kept short: 24-bit counter, relative (table 4.3) */
+        uint32_t hi = hal_rd16(AX_REG(n, AX_CNT_HI));   /* latches LO */
+        uint32_t raw = (hi << 16) | hal_rd16(AX_REG(n, AX_CNT_LO));
+        d = (int32_t)((raw - x->counter) << 8) >> 8;
+        x->raw = x->counter = raw;
+    } else {
+        uint32_t raw;
+        if (read_raw(n, &raw)) {
             axis_error(n, UB(ENCODER_F) | UB(LOGO_F), ERR_LOGICAL);
-            axis_disable(n);
+            axis_disable(n);                            /* 6.3.8: without a ramp */
             return;
         }
-        x->meas = (int32_t)raw;
-    } else {                                            /* relative */
-        x->meas += delta_eb(raw, x->counter, eb);
+        int32_t et = PAR(n, ET), eb = PAR(n, EB), ec = PAR(n, EC);
+        raw &= eb_mask(eb);
+        if (et == 2 || et == 4) {                       /* absolute */
+            if (ec > 0 && raw >= (uint32_t)ec) {
+                axis_error(n, UB(ENCODER_F) | UB(LOGO_F), ERR_LOGICAL);
+                axis_disable(n);
+                return;
+            }
+            d = (int32_t)raw - x->meas;
+        } else {                                        /* relative */
+            d = delta_eb(raw, x->counter, eb);
+        }
+        x->raw = raw;
+        x->counter = raw;
     }
-    x->raw = raw;
-    x->counter = raw;
-    x->vel = x->meas - before;
-    x->pos = x->meas + PAR(n, AO);
-    if (PAR(n, SH) != 1) {                            /* circular: 0 .. <cr>-1 (4.3.1.2) */
-        int32_t cr = PAR(n, CR);
-        while (x->pos >= cr)
-            x->pos -= cr;
-        while (x->pos < 0)
-            x->pos += cr;
+    x->meas += d;
+    x->vel = d;
+    int32_t pos = x->pos + d;
+    if (!x->linear) {                                   /* circular: 0 .. <cr>-1 (4.3.1.2) */
+        while (pos >= x->cr)
+            pos -= x->cr;
+        while (pos < 0)
+            pos += x->cr;
     }
+    x->pos = pos;
 }
 
 void measure_init(unsigned n)
@@ -149,5 +158,6 @@ void measure_init(unsigned n)
         if (et == 2 || et == 4)
             x->meas = (int32_t)raw;
     }
-    x->pos = x->meas + PAR(n, AO);
+    axis_prepare(n);
+    axis_set_pos(n);
 }

@@ -326,7 +326,7 @@ static void event(int ev, const mac4_msg_t *m)
 void serial_poll(void)
 {
     int got = 0;
-    mac4_msg_t m = {0, 0, 0, 0};
+    mac4_msg_t m;               /* filled by the decoder before any use */
     while (rx_tail != rx_head) {
         uint8_t t = rx_tail;
         uint8_t b = rx_buf[t];

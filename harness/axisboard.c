@@ -16,7 +16,7 @@ uint32_t axis_rd(sim_t *s, uint32_t off, int size)
     (void)size;
     int n = (int)(off / AXIS_STRIDE);
     axis_hw_t *a = &s->ax[n];
-    cyc_t now = sim_now(s);
+    cyc_t now = sim_axis_now(s);   /* sim_now(s) unless axis_sync (sim.h) */
     switch (off % AXIS_STRIDE) {
     case AX_CNT_HI: {
         uint32_t c = plant_counter(s, n, now);
@@ -51,7 +51,7 @@ void axis_wr(sim_t *s, uint32_t off, uint32_t v, int size)
     (void)size;
     int n = (int)(off / AXIS_STRIDE);
     axis_hw_t *a = &s->ax[n];
-    cyc_t now = sim_now(s);
+    cyc_t now = sim_axis_now(s);   /* sim_now(s) unless axis_sync (sim.h) */
     switch (off % AXIS_STRIDE) {
     case AX_CTRL:
         plant_sync(s, n, now);
@@ -114,6 +114,8 @@ void axis_irq_wr(sim_t *s, uint32_t off, uint32_t v, int size)
  * The plant itself is not reset: the motors coast. */
 void axisboard_reset(sim_t *s) { plant_reset(s); }
 
-cyc_t axisboard_next_event(sim_t *s) { return plant_next_event(s); }
+/* With axis_sync the plant lives on the axis clock: it is brought up to date
+ * at every access and every scheduler event, never scheduled in real time. */
+cyc_t axisboard_next_event(sim_t *s) { return s->axis_sync ? CYC_NEVER : plant_next_event(s); }
 
-void axisboard_events(sim_t *s, cyc_t now) { plant_events(s, now); }
+void axisboard_events(sim_t *s, cyc_t now) { plant_events(s, s->axis_sync ? sim_axis_peek(s) : now); }

@@ -141,7 +141,9 @@ void bus_write(sim_t *s, uint32_t addr, uint32_t v, int size)
     if (size == 4) {
         wr1(s, addr, v >> 16, 2);
         wr1(s, (addr + 2) & 0xFFFFFF, v & 0xFFFF, 2);
-        return;
+    } else {
+        wr1(s, addr, v, size);
     }
-    wr1(s, addr, v, size);
+    if (s->on_bus_write)          /* measurement (perf.c): after the whole write */
+        s->on_bus_write(s, addr, v, size);
 }

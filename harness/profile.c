@@ -76,8 +76,33 @@ static psym_t *find(uint32_t pc)
     return lo ? &syms[lo - 1] : NULL;
 }
 
+/* Added for harness/perf.c: a second per-instruction observer, which turns
+ * the Musashi hook on without the per-function accounting. */
+static int accounting;
+static void (*instr_hook)(unsigned pc);
+
+void profile_set_hook(void (*hook)(unsigned pc))
+{
+    instr_hook = hook;
+    mac4_profiling = accounting || instr_hook;
+}
+
+int profile_symbol(const char *name, uint32_t *addr)
+{
+    for (unsigned i = 0; i < nsyms; i++)
+        if (!strcmp(syms[i].name, name)) {
+            *addr = syms[i].addr;
+            return 0;
+        }
+    return -1;
+}
+
 void mac4_profile_instr(unsigned pc)
 {
+    if (instr_hook)
+        instr_hook(pc);
+    if (!accounting)
+        return;
     int now = m68k_cycles_run();
     if (have_last && now >= last_cycles) {
         psym_t *s = find(last_pc);
@@ -96,7 +121,8 @@ void profile_slice_start(void) { have_last = 0; }
 
 void profile_set(int on)
 {
-    mac4_profiling = on;
+    accounting = on;
+    mac4_profiling = accounting || instr_hook;
     have_last = 0;
 }
 

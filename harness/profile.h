@@ -6,4 +6,8 @@ void profile_set(int on);
 void profile_reset(void);
 void profile_slice_start(void);
 void profile_report(FILE *out, unsigned top);
+/* for harness/perf.c */
+#include <stdint.h>
+void profile_set_hook(void (*hook)(unsigned pc));          /* NULL: none */
+int profile_symbol(const char *name, uint32_t *addr);     /* 0 when found */
 #endif

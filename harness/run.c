@@ -45,10 +45,14 @@ void sim_run(sim_t *s, cyc_t cycles)
             sim_reset(s, "watchdog");
             continue;
         }
+        int polled = 0;
         if (s->host_reads && now >= s->host_next_poll) {
             host_poll_responses(s);
             s->host_next_poll = now + HOST_POLL_CYC;
+            polled = 1;
         }
+        if (s->on_slice)              /* measurement (perf.c) */
+            s->on_slice(s, now, polled);
         sim_update_irq(s);
         cyc_t next = periph_next_event(s);
         if (s->host_reads && s->host_next_poll < next)

@@ -103,6 +103,8 @@ void irq_leave(sim_t *s, cyc_t extra)
         st->xmax = excl;
     if (s->nactive > 0)
         s->active[s->nactive - 1].nested += dur;
+    if (s->on_irq_leave)
+        s->on_irq_leave(s, s->active[s->nactive].src, start, dur, excl, s->nactive);
 }
 
 static const char *const src_names[SRC_COUNT] = {"uart (L4)", "axis (L5)", "timer (L6)",
@@ -110,7 +112,7 @@ static const char *const src_names[SRC_COUNT] = {"uart (L4)", "axis (L5)", "time
 
 void irq_print_table(sim_t *s, FILE *f)
 {
-    cyc_t total = sim_now(s);
+    cyc_t total = sim_now(s) - s->irq_window_start;   /* since boot unless `perf reset` */
     fprintf(f, "irq source    count      min     mean      max  excl.max  load%%  worst at (ms)\n");
     for (int i = 0; i < SRC_COUNT; i++) {
         irqstat_t *st = &s->irq[i];
@@ -124,4 +126,34 @@ void irq_print_table(sim_t *s, FILE *f)
                 (unsigned long long)st->xmax, total ? 100.0 * (double)st->xsum / (double)total : 0.0,
                 (double)st->worst_at / 16000.0);
     }
+}
+
+/* ---- the axis clock (differential test, sim.h "axis_sync") ------------------ */
+cyc_t sim_axis_peek(sim_t *s)
+{
+    if (!s->axis_sync)
+        return sim_now(s);
+    if (s->tmr.last != s->axis_tick_seen) {        /* a tick, or the timer (re)started */
+        s->axis_tick_seen = s->tmr.last;
+        cyc_t b = s->tmr.last - s->tmr.last % PLANT_STEP_CYC;
+        if (b > s->axis_base) {                    /* never backwards (after a reset) */
+            s->axis_base = b;
+            s->axis_n = 0;
+        }
+    }
+    cyc_t t = s->axis_base + (cyc_t)s->axis_n * AXIS_SYNC_STEP;
+    if (s->tmr.next != CYC_NEVER) {                /* stay before the next tick */
+        cyc_t lim = s->tmr.next - s->tmr.next % PLANT_STEP_CYC;
+        if (lim > s->axis_base && t >= lim)
+            t = lim - 1;
+    }
+    return t;
+}
+
+cyc_t sim_axis_now(sim_t *s)
+{
+    cyc_t t = sim_axis_peek(s);
+    if (s->axis_sync)
+        s->axis_n++;
+    return t;
 }

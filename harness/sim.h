@@ -125,7 +125,31 @@ typedef struct sim {
 
     FILE *out;                     /* where events are printed */
     int timestamps;
+
+    /* ---- added for measurement and the differential test (harness/perf.c,
+     * docs/performance.md).  All hooks are NULL unless perf.c sets them. ---- */
+    cyc_t irq_window_start;        /* `irqstats` load%: cycles counted from here */
+    /* an ISR ended: its source, start, inclusive and exclusive cycles, and the
+     * nesting depth left behind (0: it had interrupted the main loop) */
+    void (*on_irq_leave)(struct sim *s, int src, cyc_t start, cyc_t dur, cyc_t excl, int depth);
+    /* after every bus write (CPU or native firmware; not the host's DPRAM writes) */
+    void (*on_bus_write)(struct sim *s, uint32_t addr, uint32_t v, int size);
+    /* at the start of every scheduler slice, after the peripheral events and
+     * the host's poll (host_polled: the host looked at the queue just now) */
+    void (*on_slice)(struct sim *s, cyc_t now, int host_polled);
+    /* Axis board on the tick grid (`perf axis-sync on`, the differential
+     * test): every access to the axis board is timed at the last timer tick
+     * (rounded down to the plant's 100 us grid) plus AXIS_SYNC_STEP cycles per
+     * access counted since that tick, so two CPUs that make the same accesses
+     * in a different time see the same plant.  sim_axis_now(). */
+    int axis_sync;
+    cyc_t axis_base;               /* the tick the axis clock counts from */
+    cyc_t axis_tick_seen;          /* tmr.last when axis_base was taken */
+    uint32_t axis_n;               /* accesses since axis_base */
+    /* ---- end of measurement additions ---- */
 } sim_t;
+
+#define AXIS_SYNC_STEP 16u          /* axis clock cycles per axis-board access */
 
 extern sim_t *g_sim;
 
@@ -150,6 +174,8 @@ void sim_printf(sim_t *s, const char *fmt, ...);
 void irq_enter(sim_t *s, int level);
 void irq_leave(sim_t *s, cyc_t extra);
 void irq_print_table(sim_t *s, FILE *f);
+cyc_t sim_axis_now(sim_t *s);      /* the time of an axis-board access (counts it) */
+cyc_t sim_axis_peek(sim_t *s);     /* the same without counting an access */
 
 /* host.c: the VME host's side of the DPRAM queues */
 uint32_t dp_rd32(sim_t *s, uint32_t off);

@@ -7,13 +7,14 @@
  */
 #include <stdint.h>
 #include "runtime.h"
+#include "mul16.h"
 
 uint32_t rt_mul32(uint32_t a, uint32_t b)
 {
     uint16_t al = (uint16_t)a, ah = (uint16_t)(a >> 16);
     uint16_t bl = (uint16_t)b, bh = (uint16_t)(b >> 16);
-    uint32_t lo = (uint32_t)al * bl;
-    uint16_t cross = (uint16_t)((uint32_t)al * bh + (uint32_t)ah * bl);
+    uint32_t lo = mulu16(al, bl);
+    uint16_t cross = (uint16_t)(mulu16(al, bh) + mulu16(ah, bl));
     return lo + ((uint32_t)cross << 16);
 }
 
@@ -54,7 +55,45 @@ int32_t rt_mod32(int32_t n, int32_t d)
     return (int32_t)(n < 0 ? 0u - r : r);
 }
 
+/* 64-bit shifts by a variable count (GCC calls these at -Os). */
+uint64_t rt_lshr64(uint64_t a, unsigned b)
+{
+    uint32_t hi = (uint32_t)(a >> 32), lo = (uint32_t)a;
+    b &= 63u;
+    if (b >= 32)
+        return hi >> (b - 32);
+    if (b == 0)
+        return a;
+    return ((uint64_t)(hi >> b) << 32) | ((lo >> b) | (hi << (32 - b)));
+}
+
+uint64_t rt_shl64(uint64_t a, unsigned b)
+{
+    uint32_t hi = (uint32_t)(a >> 32), lo = (uint32_t)a;
+    b &= 63u;
+    if (b >= 32)
+        return (uint64_t)(lo << (b - 32)) << 32;
+    if (b == 0)
+        return a;
+    return ((uint64_t)((hi << b) | (lo >> (32 - b))) << 32) | (uint32_t)(lo << b);
+}
+
+int64_t rt_ashr64(int64_t a, unsigned b)
+{
+    b &= 63u;
+    if (a >= 0)
+        return (int64_t)rt_lshr64((uint64_t)a, b);
+    return (int64_t)~rt_lshr64(~(uint64_t)a, b);   /* floor, as >> on negatives */
+}
+
 #ifdef HAL_TARGET
+int64_t __ashrdi3(int64_t a, int b);
+int64_t __ashldi3(int64_t a, int b);
+uint64_t __lshrdi3(uint64_t a, int b);
+int64_t __ashrdi3(int64_t a, int b) { return rt_ashr64(a, (unsigned)b); }
+int64_t __ashldi3(int64_t a, int b) { return (int64_t)rt_shl64((uint64_t)a, (unsigned)b); }
+uint64_t __lshrdi3(uint64_t a, int b) { return rt_lshr64(a, (unsigned)b); }
+
 uint32_t __mulsi3(uint32_t a, uint32_t b);
 uint32_t __udivsi3(uint32_t n, uint32_t d);
 uint32_t __umodsi3(uint32_t n, uint32_t d);

@@ -10,7 +10,10 @@ ON_FLY_INIT = ubits("init", "on_fly")
 
 # ---- the manual's example, 7.3.1 --------------------------------------------
 def test_manual_example_7_3_1():
-    r = run(ENABLE + ["run 5", "counter 0 1000", "run 10", (0, 70, 16), (0, 59), (0, 3), (0, 116), (0, 1)])
+    # the axis stands at 1000 (counter set after INIT, before enabling)
+    r = run([(0, "INIT"), "run 5", "plant 0 motor coulomb 100", "counter 0 1000", "run 5",
+             (0, "ME"), (0, "E"), "run 10",
+             (0, 70, 16), (0, 59), (0, 3), (0, 116), (0, 1)])
     resps = r.resps()
     assert resps[:3] == [(0, 2, ON_FLY_INIT), (0, 52, ON_FLY_INIT), (0, 3, ON_FLY_INIT | ubits("dr_en", mode="enable"))]
     # the manual shows $02000101, $02000101, $02000108, 1000, $02002108 without
@@ -252,15 +255,15 @@ def test_stop_bits_only_for_their_axis_and_byte_access():
 
 
 def test_test_mode_outputs_da_and_ignores_usr():
-    r = run([(0, "USR"), (0, "INIT"), (0, "WDA", -700), (0, "MT"), (0, "E"), "run 5", "outputs"])
+    r = run([(0, "USR"), (0, "INIT"), (0, "WDA", -700), (0, "MT"), (0, "E"), "run 20", "outputs"])
     assert r.grep(r"^output 0 en=1 dac=-700 ")
 
 
 def test_external_position_via_dpram_handshake():
     cmds = [(0, "UWET", 4), (0, "UWEA", 0x330A), (0, "UWEB", 32), (0, "UWEC", 0),
             "poke32 0x330A 12345", "poke16 0x3308 0x8000", (0, "INIT"), "run 5",
-            "peek16 0x3308", (0, "RCP"),
-            "poke32 0x330A 777", "poke16 0x3308 0x8000", "run 5", "peek16 0x3308", (0, "RCP"),
+            "peek16 0x3308", (0, "RCP"), "run 5",
+            "poke32 0x330A 777", "poke16 0x3308 0x8000", "run 5", "peek16 0x3308", (0, "RCP"), "run 5",
             "poke32 0x330A 999", "run 5", (0, "RCP")]            # no flag: the card keeps 777
     r = run(cmds)
     pos = [p for _, c, p in r.resps() if c == 116]

@@ -205,13 +205,16 @@ EXPECTED_7_3_1 = [
     (0, 70, 0x02001101),
     (0, 59, 0x02001101),
     (0, 3, 0x02001108),
-    (0, 116, 0),            # actual position: no plant moves the counter
+    (0, 116, 1000),         # actual position, as in the manual: the axis stands at 1000
     (0, 161, 0x02003108),   # code 1 is not implemented: syntax error
 ]
 
 
 def manual_sequence():
-    script = BOOT + "send 0 2\nsend 0 52\nsend 0 3\nrun 50\n"   # INIT, ME, E over the VMEbus
+    # INIT, then the mechanics held fast at 1000 (static friction beyond the
+    # motor's torque) so the position reads 1000 as in the manual, ME, E
+    script = (BOOT + "send 0 2\nrun 5\nplant 0 motor coulomb 100\ncounter 0 1000\nrun 5\n"
+              "send 0 52\nsend 0 3\nrun 50\n")
     script += "".join("tx %s\nrun 60\n" % t for t in MANUAL_TELEGRAMS) + "run 50\n"
     return sim(script)
 

@@ -41,6 +41,18 @@ static void edges_and_random(void **st)
     }
 }
 
+static void shifts_64(void **st)
+{
+    (void)st;
+    for (int i = 0; i < 20000; i++) {
+        uint64_t a = (uint64_t)rnd() << 32 | rnd();
+        unsigned b = rnd() & 63u;
+        assert_true(rt_lshr64(a, b) == a >> b);
+        assert_true(rt_shl64(a, b) == a << b);
+        assert_true(rt_ashr64((int64_t)a, b) == ((int64_t)a >> b));
+    }
+}
+
 static void divide_by_zero_does_not_trap(void **st)
 {
     (void)st;
@@ -54,6 +66,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(edges_and_random),
         cmocka_unit_test(divide_by_zero_does_not_trap),
+        cmocka_unit_test(shifts_64),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,412 @@
+/*
+ * motion.c - the modes of manual chapter 5 and the protective reactions of
+ * 4.8 and 6.3, between position measurement and the output stage.
+ *
+ *   motion_start()        at E (main loop, interrupts masked): set a mode up
+ *   motion_profile_tick() once per SP, in the main loop: the profile generator
+ *                         prepares the NEXT SP's segment (nx_*); the tick
+ *                         takes it over at the SP boundary (motion_segment)
+ *   motion_servo_tick()   every tick: setpoint interpolation, protective
+ *                         reactions, position controller -> output value
+ *
+ * Everything runs in the measurement frame (position without <ao>), in Q16.
+ */
+#include "fw.h"
+#include "hal.h"
+#include "card.h"
+#include "params.h"
+#include "motion.h"
+
+#define Q16(x) ((int64_t)(x) * 65536)
+
+/* A velocity or acceleration parameter in Q16 per SP, scaled by <sf> (4.8.4). */
+static int64_t vq(unsigned n, int32_t v)
+{
+    int32_t sf = PAR(n, SF);
+#if MAC4_CARD == MAC4_CARD_STP
+    /* Hz -> steps per SP of 32 ms: x 0.032 = 134218 / 2^22 (2 ppm) */
+    int64_t q = (int64_t)prof_umul32((uint32_t)(v < 0 ? -v : v), 134218u) >> 6;
+    if (axes[n].sstat & SB(TURBO))
+        q *= 10;                                 /* 4.1.3 */
+    q >>= sf;
+    return v < 0 ? -q : q;
+#else
+    return ((int64_t)v << 16) >> sf;
+#endif
+}
+
+static int64_t meas_q(unsigned n) { return Q16(axes[n].meas); }
+
+/* A user position (with <ao>) as a measurement-frame target. */
+static int64_t target_of(unsigned n, int32_t user)
+{
+    axis_t *x = &axes[n];
+    int32_t sh = PAR(n, SH);
+    if (sh == 1)
+        return Q16((int64_t)user - PAR(n, AO));
+    /* circular axes (4.3.1.2): from the displayed position; optimised ones
+     * take the shorter way round */
+    int32_t cr = PAR(n, CR);
+    int64_t delta = (int64_t)user - x->pos;
+    if (sh == 3) {
+        if (delta > cr / 2)
+            delta -= cr;
+        else if (delta < -(int64_t)(cr / 2))
+            delta += cr;
+    }
+    return Q16(x->meas + delta);
+}
+
+static int at_rest(const axis_t *x) { return x->prof.vel == 0; }
+
+static void arm_index(unsigned n)
+{
+    axes[n].idx_seen = 0;
+    hal_wr16(AX_REG(n, AX_CTRL), (uint16_t)(axes[n].ctrl | AX_CTRL_IDX_ARM));
+}
+
+void motion_hold(unsigned n)
+{
+    axis_t *x = &axes[n];
+    x->prof.pos = meas_q(n);
+    x->prof.vel = 0;
+    /* both sides of the segment hand-over start again from here */
+    x->seg_start = x->seg_end = x->nx_start = x->nx_end = x->prof.pos;
+    x->seg_step = 0;
+    x->nx_ready = 0;
+    x->sp_i = (int32_t)(x->prof.pos >> 16);
+    x->sp_f = (uint16_t)x->prof.pos;
+}
+
+/* Tick side, at each SP boundary: take the prepared segment, or hold. */
+int motion_segment(unsigned n)
+{
+    axis_t *x = &axes[n];
+    int late = 0;
+    if (x->nx_ready) {
+        x->seg_start = x->nx_start;
+        x->seg_end = x->nx_end;
+        x->nx_ready = 0;
+    } else {
+        late = x->mode != M_DISABLE && x->mode != M_TEST;
+        x->seg_start = x->seg_end;
+    }
+    x->seg_step = (x->seg_end - x->seg_start) >> 2;
+    return late;
+}
+
+void motion_start(unsigned n, uint8_t mode, uint8_t from)
+{
+    axis_t *x = &axes[n];
+    if (from == M_DISABLE || from == M_TEST) {
+        motion_hold(n);                          /* no jump when the drive comes on */
+        servo_reset(&x->servo);
+    }
+    servo_set_gains(&x->gains, PAR(n, GA), PAR(n, ZE), PAR(n, PO), PAR(n, KI), PAR(n, KISC));
+    x->done = 0;
+    x->phase = 0;
+    x->stop_then = STOP_NONE;
+    x->trt_count = 0;
+    /* <trt> in whole sampling periods, rounded up (5.6) */
+    uint32_t sp_ms = MAC4_CARD == MAC4_CARD_STP ? 32u : 10u;
+    x->trt_periods = (uint16_t)(((uint32_t)PAR(n, TRT) + sp_ms - 1u) / sp_ms);
+    switch (mode) {
+    case M_POSITIONING:
+        x->target = target_of(n, PAR(n, AP));
+        break;
+    case M_SEARCH_IDX_C:
+    case M_SEARCH_IDX:
+        arm_index(n);
+        break;
+    default:
+        break;
+    }
+}
+
+void motion_emergency(unsigned n, uint8_t then)
+{
+    axis_t *x = &axes[n];
+    if (x->mode == M_DISABLE)
+        return;
+    if (x->mode == M_TEST) {                     /* 4.8.2: no ramp in test mode */
+        axis_disable(n);
+        return;
+    }
+    if (x->stop_then < then)                     /* deinit > disable > hold */
+        x->stop_then = then;
+}
+
+/* ---- justification helpers --------------------------------------------- */
+static int sw_active(unsigned n, uint32_t ubit) { return (axes[n].ustat & ubit) != 0; }
+
+static void justified(unsigned n, int set_zero)
+{
+    axis_t *x = &axes[n];
+    x->prof.pos = Q16(x->edge);
+    x->prof.vel = 0;
+    x->done = 1;
+    if (set_zero) {
+        /* the index pulse is the axis' reference: position 0 there (4.9) */
+        par_w[P_AO][n] = par_a[P_AO][n] = -x->edge;
+        axis_set_pos(n);
+    }
+    x->ustat |= UB(JUS_END);
+    vme_irq((uint8_t)PAR(n, IRQ4));
+}
+
+static int64_t sgn(int32_t v, int64_t mag) { return v < 0 ? -mag : mag; }
+
+/* ---- the profile generator, once per SP -------------------------------- */
+void motion_profile_tick(unsigned n)
+{
+    axis_t *x = &axes[n];
+    prof_t *p = &x->prof;
+    if (x->nx_ready)
+        return;                                  /* the tick has not taken the last one */
+    int64_t before = p->pos;
+
+    if (x->mode == M_DISABLE || x->mode == M_TEST) {
+        motion_hold(n);
+        return;
+    }
+    if (x->stop_then) {                          /* protective stop: ramp <ed> */
+        int64_t ed = vq(n, PAR(n, ED));
+        if (prof_ramp(p, 0, ed, ed)) {
+            if (x->stop_then == STOP_HOLD) {
+                axis_set_mode(n, M_BRAKE);
+            } else {
+                axis_disable(n);
+                if (x->stop_then == STOP_DEINIT)
+                    x->ustat &= ~UB(INIT);
+            }
+            x->stop_then = STOP_NONE;
+            x->done = 1;
+        }
+    } else {
+        switch (x->mode) {
+        case M_ENABLE:                           /* hold; UE from a move: stop with <pd> */
+        case M_BRAKE:
+            x->done = (uint8_t)prof_ramp(p, 0, vq(n, PAR(n, PD)), vq(n, PAR(n, PD)));
+            break;
+        case M_RESET:                            /* 4.8.2: emergency ramp, then disable */
+            if (prof_ramp(p, 0, vq(n, PAR(n, ED)), vq(n, PAR(n, ED))))
+                axis_disable(n);
+            break;
+        case M_SPEED:                            /* <vt> with the ramps <pa>/<pd> */
+            prof_ramp(p, vq(n, PAR(n, VT)), vq(n, PAR(n, PA)), vq(n, PAR(n, PD)));
+            break;
+        case M_VEL_TRACK:                        /* 5.11: acceleration not limited */
+            p->vel = vq(n, PAR(n, VT));
+            p->pos += p->vel;
+            break;
+        case M_POS_TRACK: {                      /* 5.12: <at> within the next SP */
+            int64_t t = target_of(n, PAR(n, AT));
+            p->vel = t - p->pos;
+            p->pos = t;
+            break;
+        }
+        case M_POSITIONING:
+            if (!x->done && prof_position(p, x->target, vq(n, PAR(n, PV)), vq(n, PAR(n, PA)),
+                                          vq(n, PAR(n, PD)))) {
+                x->done = 1;
+            }
+            if (x->done && !(x->ustat & UB(POS_END))) {
+                /* 5.6: in the target radius for <trt> sampling periods */
+                int64_t d = (x->target >> 16) - x->meas;
+                if (d < 0)
+                    d = -d;
+                if (d <= PAR(n, TR)) {
+                    if (x->trt_count >= x->trt_periods) {
+                        x->ustat |= UB(POS_END);
+                        x->sstat |= SB(IN_POS);
+                        vme_irq((uint8_t)PAR(n, IRQ4));
+                    } else {
+                        x->trt_count++;
+                    }
+                } else {
+                    x->trt_count = 0;
+                }
+            }
+            break;
+        case M_SEARCH_IDX_C:                     /* 5.7 */
+            if (x->phase == 0) {
+                prof_ramp(p, vq(n, PAR(n, CV)), vq(n, PAR(n, CA)), vq(n, PAR(n, CA)));
+                if (x->idx_seen)
+                    x->phase = 1;
+            } else if (!x->done && prof_ramp(p, 0, vq(n, PAR(n, CD)), vq(n, PAR(n, CD)))) {
+                x->done = 1;
+                x->ustat |= UB(JUS_END);
+                vme_irq((uint8_t)PAR(n, IRQ4));
+            }
+            break;
+        case M_SEARCH_IDX:                       /* 5.8: at <lv> to the index */
+            if (!x->done) {
+                if (x->idx_seen)
+                    justified(n, 1);
+                else
+                    p->pos += (p->vel = sgn(PAR(n, CV), vq(n, PAR(n, LV))));
+            }
+            break;
+        case M_HOME: {                           /* 5.9 */
+            int32_t hv = PAR(n, HV);
+            switch (x->phase) {
+            case 0:                              /* 1: find the reference switch */
+                if (sw_active(n, UB(REF)))
+                    x->phase = 1;
+                else
+                    prof_ramp(p, vq(n, hv), vq(n, PAR(n, HA)), vq(n, PAR(n, HA)));
+                break;
+            case 1:                              /* brake with <hd> */
+                if (prof_ramp(p, 0, vq(n, PAR(n, HD)), vq(n, PAR(n, HD))))
+                    x->phase = sw_active(n, UB(REF)) ? 2 : 0;
+                break;
+            case 2:                              /* 2: left edge of the switch at <lv> */
+                if (!sw_active(n, UB(REF))) {
+                    p->vel = 0;
+                    p->pos = meas_q(n);
+                    arm_index(n);
+                    x->phase = 3;
+                } else {
+                    p->pos += (p->vel = -vq(n, PAR(n, LV)));
+                }
+                break;
+            case 3:                              /* 3: next index pulse, positive */
+                if (x->idx_seen)
+                    justified(n, 1);
+                else
+                    p->pos += (p->vel = vq(n, PAR(n, LV)));
+                break;
+            }
+            break;
+        }
+        case M_FIND_EDGE: {                      /* 5.10 */
+            int32_t dl = PAR(n, DL);
+            uint32_t bit = dl == 0 ? UB(REF) : dl == 1 ? UB(HWL_N) : UB(HWL_P);
+            int32_t dir = dl == 0 ? PAR(n, FV) : dl == 1 ? -1 : 1;
+            int64_t fv = vq(n, PAR(n, FV) < 0 ? -PAR(n, FV) : PAR(n, FV));
+            switch (x->phase) {
+            case 0:
+                if (sw_active(n, bit))
+                    x->phase = 1;
+                else
+                    prof_ramp(p, sgn(dir, fv), vq(n, PAR(n, FA)), vq(n, PAR(n, FA)));
+                break;
+            case 1:
+                if (prof_ramp(p, 0, vq(n, PAR(n, FD)), vq(n, PAR(n, FD))))
+                    x->phase = 2;
+                break;
+            case 2:                              /* back at <lv> to the transition */
+                if (!sw_active(n, bit)) {
+                    x->edge = x->meas;
+                    justified(n, 0);
+                    x->phase = 3;
+                } else {
+                    p->pos += (p->vel = sgn(-dir, vq(n, PAR(n, LV))));
+                }
+                break;
+            default:
+                break;
+            }
+            break;
+        }
+        default:
+            break;
+        }
+    }
+    /* the next SP's segment, for the tick to take at the boundary */
+    if (x->mode != M_DISABLE && x->mode != M_TEST) {
+        x->nx_start = before;
+        x->nx_end = p->pos;
+        x->nx_ready = 1;
+    }
+}
+
+/* ---- every servo tick ---------------------------------------------------- */
+int16_t motion_servo_tick(unsigned n, unsigned phase)
+{
+    axis_t *x = &axes[n];
+    if (x->mode == M_DISABLE) {
+        x->setpoint = x->meas;
+        x->ferr = 0;
+        return 0;
+    }
+    if (x->mode == M_TEST)
+        return (int16_t)PAR(n, DA);
+
+    /* the index latch, for the searches */
+    if (!x->idx_seen && (x->in & AX_IN_IDX) &&
+        (x->mode == M_SEARCH_IDX_C || x->mode == M_SEARCH_IDX || (x->mode == M_HOME && x->phase == 3))) {
+        uint32_t hi = hal_rd16(AX_REG(n, AX_IDX_HI));
+        uint32_t raw = (hi << 16) | hal_rd16(AX_REG(n, AX_IDX_LO));
+        int32_t d = (int32_t)((raw - x->counter) << 8) >> 8;   /* 24-bit counter */
+        x->edge = x->meas + d;
+        x->idx_seen = 1;
+    }
+
+    /* Setpoint: the SP segment in four steps, integer + Q16 fraction in 32
+     * bits; the segment's start and end are taken exactly from the profile. */
+    if (phase == 3) {
+        x->sp_i = (int32_t)(x->seg_end >> 16);
+        x->sp_f = (uint16_t)x->seg_end;
+    } else {
+        if (phase == 0) {
+            x->sp_i = (int32_t)(x->seg_start >> 16);
+            x->sp_f = (uint16_t)x->seg_start;
+        }
+        uint32_t f = (uint32_t)x->sp_f + (uint16_t)x->seg_step;
+        x->sp_i += (int32_t)(x->seg_step >> 16) + (int32_t)(f >> 16);
+        x->sp_f = (uint16_t)f;
+    }
+    x->setpoint = x->sp_i + (x->sp_f >= 0x8000u);
+    x->ferr = x->setpoint - x->meas;
+
+    /* protective reactions (4.8, 6.3) */
+    if (!x->stop_then) {
+        int32_t mf = x->mf;
+        if (x->ferr > mf || x->ferr < -mf) {     /* 4.8.1, 6.3.9 */
+            axis_error(n, UB(FERR_F), ERR_LOGICAL);
+            motion_emergency(n, STOP_DISABLE);
+        } else if (x->linear && (x->pos > x->lp || x->pos < x->ln)) {
+            x->ustat |= x->pos > x->lp ? UB(SWL_P) : UB(SWL_N);
+            axis_error(n, 0, ERR_LOGICAL);       /* 4.3.1.1: braked and disabled */
+            motion_emergency(n, STOP_DISABLE);
+        } else {
+            /* hardware limits stop motion into the switch, not out of it;
+             * find edge looks for the switch on purpose */
+            int64_t v = x->prof.vel;
+            int into_p = v > 0 && (x->ustat & UB(HWL_P));
+            int into_n = v < 0 && (x->ustat & UB(HWL_N));
+            if ((into_p || into_n) && x->mode != M_FIND_EDGE) {
+                axis_error(n, 0, ERR_LOGICAL);
+                motion_emergency(n, STOP_HOLD);
+            }
+        }
+    }
+    if ((x->ustat & (UB(SWL_P) | UB(SWL_N))) && x->pos >= x->ln && x->pos <= x->lp)
+        x->ustat &= ~(UB(SWL_P) | UB(SWL_N));
+
+#if MAC4_CARD == MAC4_CARD_STP
+    return 0;   /* the stepper output comes with the STP issue */
+#else
+    int16_t u = servo_step(&x->servo, &x->gains, x->ferr);
+    return (x->ustat & UB(REV_O)) ? (int16_t)(u == SERVO_OUT_MIN ? SERVO_OUT_MAX : -u) : u;
+#endif
+}
+
+int motion_busy(unsigned n)
+{
+    const axis_t *x = &axes[n];
+    switch (x->mode) {
+    case M_POSITIONING:
+        return !(x->ustat & UB(POS_END));
+    case M_SEARCH_IDX_C:
+    case M_SEARCH_IDX:
+    case M_HOME:
+    case M_FIND_EDGE:
+        return !x->done;
+    default:
+        return 0;
+    }
+}
+
+int motion_at_rest(unsigned n) { return at_rest(&axes[n]); }

@@ -1,0 +1,96 @@
+#include "profile.h"
+#include "mul16.h"
+
+/* 32 x 32 -> 64 unsigned from four MULU.W (the 68000 has no 32-bit multiply). */
+uint64_t prof_umul32(uint32_t a, uint32_t b)
+{
+    uint16_t ah = (uint16_t)(a >> 16), al = (uint16_t)a, bh = (uint16_t)(b >> 16), bl = (uint16_t)b;
+    uint64_t hh = mulu16(ah, bh), hl = mulu16(ah, bl), lh = mulu16(al, bh), ll = mulu16(al, bl);
+    return (hh << 32) + (hl << 16) + (lh << 16) + ll;
+}
+
+static uint32_t sat32(int64_t x) { return x > 0xFFFFFFFFll ? 0xFFFFFFFFu : (uint32_t)x; }
+
+/* Stopping from v in steps v-d, v-2d, ... covers about v^2/(2d) + v/2.
+ * Brake when v^2 + v d >= 2 d rem, compared in Q8 (the low 8 fraction
+ * bits do not change the decision by more than a step). */
+int prof_must_brake(int64_t v, int64_t dec, int64_t rem)
+{
+    uint32_t v8 = sat32(v >> 8), d8 = sat32(dec >> 8), r8 = sat32(rem >> 8);
+    if (d8 == 0)
+        d8 = 1;
+    uint32_t vd = v8 + d8 < v8 ? 0xFFFFFFFFu : v8 + d8;
+    uint64_t lhs = prof_umul32(v8, vd);
+    uint64_t rhs = prof_umul32(d8, r8);
+    return (lhs >> 1) >= rhs;                   /* lhs >= 2 rhs, without overflowing 2 rhs */
+}
+
+int prof_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t dec)
+{
+    int64_t rem = target - p->pos;
+    if (rem == 0 && p->vel == 0)
+        return 1;
+    int neg = rem < 0;
+    if (neg)
+        rem = -rem;
+    int64_t v = neg ? -p->vel : p->vel;          /* speed towards the target */
+    if (v < 0) {                                 /* moving away: turn round first */
+        v += dec;
+        if (v > 0)
+            v = 0;
+    } else {
+        if (v > 0 && prof_must_brake(v, dec, rem)) {
+            v -= dec;
+            if (v < dec)
+                v = dec;                         /* creep: never stop short */
+        } else if (v < vmax) {
+            v += acc;
+            if (v > vmax)
+                v = vmax;
+        } else if (v > vmax) {                   /* <pv> lowered on the fly */
+            v -= dec;
+            if (v < vmax)
+                v = vmax;
+        }
+        if (v > rem)
+            v = rem;                             /* land exactly */
+        if (v <= 0)
+            v = rem < dec ? rem : dec;
+    }
+    p->vel = neg ? -v : v;
+    p->pos += p->vel;
+    if (p->pos == target) {
+        p->vel = 0;
+        return 1;
+    }
+    return 0;
+}
+
+int prof_ramp(prof_t *p, int64_t vt, int64_t acc, int64_t dec)
+{
+    int64_t v = p->vel;
+    if (v == vt) {
+        p->pos += v;
+        return 1;
+    }
+    int growing = (v >= 0 && vt > v) || (v <= 0 && vt < v);
+    if ((v > 0 && vt < 0) || (v < 0 && vt > 0))
+        growing = 0;                             /* reversing: brake to zero first */
+    int64_t step = growing ? acc : dec;
+    if (vt > v) {
+        v += step;
+        if (v > vt)
+            v = vt;
+        if (!growing && p->vel < 0 && v > 0)
+            v = 0;
+    } else {
+        v -= step;
+        if (v < vt)
+            v = vt;
+        if (!growing && p->vel > 0 && v < 0)
+            v = 0;
+    }
+    p->vel = v;
+    p->pos += v;
+    return v == vt;
+}

@@ -1,0 +1,29 @@
+/*
+ * profile.h - the profile generator's arithmetic (manual 5.6, 4.8.4):
+ * trapezoidal or triangular moves and velocity ramps, one step per
+ * profile sampling period SP.  Positions and velocities are 64-bit Q16
+ * (1/65536 increment or step; velocity per SP), so <sf>-scaled fractional
+ * velocities (4.8.4) keep their bits.  Only 16x16 multiplies, no division.
+ */
+#ifndef PROFILE_H
+#define PROFILE_H
+#include <stdint.h>
+
+typedef struct {
+    int64_t pos;    /* Q16 */
+    int64_t vel;    /* Q16 per SP, signed */
+} prof_t;
+
+/* One SP of a move to target with speed limit vmax, acceleration acc and
+ * braking ramp dec (all > 0, Q16).  Lands exactly on target; returns 1
+ * once there with velocity 0. */
+int prof_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t dec);
+/* One SP of a velocity ramp towards vt: acc while the speed grows, dec
+ * while it falls.  Returns 1 when vel == vt. */
+int prof_ramp(prof_t *p, int64_t vt, int64_t acc, int64_t dec);
+/* Would a stop from speed v (>= 0) with ramp dec cover at least rem?
+ * Exposed for the tests. */
+int prof_must_brake(int64_t v, int64_t dec, int64_t rem);
+uint64_t prof_umul32(uint32_t a, uint32_t b);
+
+#endif

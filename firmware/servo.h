@@ -1,0 +1,43 @@
+/*
+ * servo.h - the position controller of MAC4-INC/SSI (manual 5.16): a
+ * lead/lag filter with a parallel integrator,
+ *
+ *   u1(k) = K e(k) - K A e(k-1) - B u1(k-1)
+ *   u2(k) = C e(k-1) + u2(k-1)          (limited: anti wind-up)
+ *   u(k)  = u1(k) + u2(k)               -> 12-bit DAC, saturated
+ *
+ * with <ga> = 4K, <ze> = 256A, <po> = 256B, <ki> = 256C and <ki_sc> right
+ * shifts of the integral coefficient (C = <ki> / (256 * 2^<ki_sc>)).
+ *
+ * Fixed point, 68000-friendly: only 16x16->32 multiplies (MULS.W), no
+ * division in the tick.  u1 and u2 are carried in 1/256 DAC LSB (Q8); the
+ * integrator keeps the bits its shift drops in a residual, so it does not
+ * drift.  The following error is limited to what can matter: K*|e| at
+ * most 2^16 LSB (32 times full scale), computed once per gain set.
+ * tests/unit/test_servo.c holds the double-precision reference.
+ */
+#ifndef SERVO_H
+#define SERVO_H
+#include <stdint.h>
+
+typedef struct {
+    int16_t ga, ze, po, ki;
+    uint8_t kisc;
+    int16_t e_lim;          /* derived: |e| limit so that K*|e| <= 2^16 LSB */
+} servo_gains_t;
+
+typedef struct {
+    int32_t u1;             /* Q8 */
+    int32_t u2;             /* Q8, limited to the DAC range */
+    int32_t u2_res;         /* integrator bits below Q8, < 2^kisc */
+    int16_t e_prev;         /* e(k-1), limited */
+} servo_state_t;
+
+#define SERVO_OUT_MAX 2047
+#define SERVO_OUT_MIN (-2048)
+
+void servo_set_gains(servo_gains_t *g, int32_t ga, int32_t ze, int32_t po, int32_t ki, int32_t kisc);
+void servo_reset(servo_state_t *s);
+int16_t servo_step(servo_state_t *s, const servo_gains_t *g, int32_t e);
+
+#endif

@@ -1,0 +1,107 @@
+# Fuzz targets of the native firmware (docs/hardening.md).  Included by Makefile.
+#
+#   make fuzz [FUZZ_SECONDS=60] [FUZZ_TARGETS="queue serial cmd"] [FUZZ_CARDS="inc ssi stp"]
+#        libFuzzer (clang), each target and card FUZZ_SECONDS seconds, starting from
+#        tests/fuzz/corpus/TARGET; new inputs go to build/fuzz/work/TARGET-CARD,
+#        crashes to build/fuzz/crash-TARGET-CARD-*, a summary to build/fuzz/summary.txt
+#   make fuzz-replay   every input of tests/fuzz/corpus through every target, built with
+#        the host compiler and ASan+UBSan (part of make test; no clang needed)
+#   make fuzz-merge    add the work inputs that reach new coverage to tests/fuzz/corpus
+#   make fuzz-cov      line coverage of firmware/ by the corpus (clang, llvm-cov)
+
+FUZZ_TARGETS ?= queue serial cmd
+FUZZ_CARDS   ?= inc ssi stp
+FUZZ_SECONDS ?= 60
+FUZZ_JOBS    ?= 1
+FUZZ_CLANG   ?= clang
+LLVM_PROFDATA ?= llvm-profdata
+LLVM_COV     ?= llvm-cov
+
+FZ_ALL_TARGETS := queue serial cmd
+FZ_INC   := -Ihal -Ifirmware -Iharness -Ihal/target -DHAL_NATIVE
+FZ_SAN   := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+FZ_GCC_CFLAGS   := -std=gnu11 -g -O1 -Wall -Wextra -Werror $(FZ_INC) $(FZ_SAN)
+FZ_CLANG_CFLAGS := -std=gnu11 -g -O1 -Wall -Wextra $(FZ_INC) $(FZ_SAN)
+FZ_COV_CFLAGS   := -std=gnu11 -g -O0 $(FZ_INC) -fprofile-instr-generate -fcoverage-mapping
+FZ_DEPS  := tests/fuzz/fuzz_card.h tests/fuzz/fuzz.mk $(FW_HDRS) $(HARNESS_HDRS)
+
+# objects: firmware and targets get libFuzzer's coverage, the harness only the sanitizers
+FZ_FW_OBJS = $(patsubst firmware/%.c,$(B)/fuzz/$(1)-$(2)/fw_%.o,$(FW_SRCS)) \
+             $(patsubst harness/%.c,$(B)/fuzz/$(1)-$(2)/h_%.o,$(HARNESS_CORE)) \
+             $(B)/fuzz/$(1)-$(2)/rt_runtime.o $(B)/fuzz/$(1)-$(2)/fuzz_hal.o
+
+define FZ_OBJ_RULES
+$(B)/fuzz/$(1)-$(2)/fw_%.o: firmware/%.c $(FZ_DEPS)
+	@mkdir -p $$(@D)
+	@echo "  $(1)-FZ  $$@"; $$(FZ_CC_$(1)) $$(FZ_CFLAGS_$(1)) $$(FZ_COVER_$(1)) -DMAC4_CARD=$(card_$(2)) -c $$< -o $$@
+$(B)/fuzz/$(1)-$(2)/fuzz_%.o: tests/fuzz/fuzz_%.c $(FZ_DEPS)
+	@mkdir -p $$(@D)
+	@echo "  $(1)-FZ  $$@"; $$(FZ_CC_$(1)) $$(FZ_CFLAGS_$(1)) $$(FZ_COVER_$(1)) -DMAC4_CARD=$(card_$(2)) -c $$< -o $$@
+$(B)/fuzz/$(1)-$(2)/h_%.o: harness/%.c $(FZ_DEPS)
+	@mkdir -p $$(@D)
+	@echo "  $(1)-FZ  $$@"; $$(FZ_CC_$(1)) $$(FZ_CFLAGS_$(1)) -DMAC4_CARD=$(card_$(2)) -c $$< -o $$@
+$(B)/fuzz/$(1)-$(2)/rt_%.o: hal/target/%.c $(FZ_DEPS)
+	@mkdir -p $$(@D)
+	@echo "  $(1)-FZ  $$@"; $$(FZ_CC_$(1)) $$(FZ_CFLAGS_$(1)) -DMAC4_CARD=$(card_$(2)) -c $$< -o $$@
+$(B)/fuzz/$(1)-$(2)/replay.o: tests/fuzz/replay.c
+	@mkdir -p $$(@D)
+	@echo "  $(1)-FZ  $$@"; $$(FZ_CC_$(1)) $$(FZ_CFLAGS_$(1)) -c $$< -o $$@
+$(B)/fuzz/$(1)-$(2)/fuzz_hal.o: tests/fuzz/fuzz_hal.c hal/native/hal_native.c $(FZ_DEPS)
+	@mkdir -p $$(@D)
+	@echo "  $(1)-FZ  $$@"; $$(FZ_CC_$(1)) $$(FZ_CFLAGS_$(1)) -DMAC4_CARD=$(card_$(2)) -c $$< -o $$@
+endef
+
+FZ_CC_gcc      = $(HOSTCC)
+FZ_CFLAGS_gcc  = $(FZ_GCC_CFLAGS)
+FZ_CC_clang    = $(FUZZ_CLANG)
+FZ_CFLAGS_clang = $(FZ_CLANG_CFLAGS)
+FZ_COVER_clang = -fsanitize=fuzzer-no-link
+FZ_CC_cov      = $(FUZZ_CLANG)
+FZ_CFLAGS_cov  = $(FZ_COV_CFLAGS)
+$(foreach c,$(CARDS),$(foreach tc,gcc clang cov,$(eval $(call FZ_OBJ_RULES,$(tc),$(c)))))
+
+define FZ_BIN_RULES
+$(B)/fuzz/replay-$(1)-$(2): $(call FZ_FW_OBJS,gcc,$(2)) $(B)/fuzz/gcc-$(2)/fuzz_$(1).o $(B)/fuzz/gcc-$(2)/replay.o
+	@echo "  LD-ASAN $$@"; $$(HOSTCC) $$(FZ_SAN) $$^ -o $$@
+$(B)/fuzz/fuzz-$(1)-$(2): $(call FZ_FW_OBJS,clang,$(2)) $(B)/fuzz/clang-$(2)/fuzz_$(1).o
+	@echo "  LD-FUZZ $$@"; $$(FUZZ_CLANG) -fsanitize=fuzzer,address,undefined $$^ -o $$@
+$(B)/fuzz/cov-$(1)-$(2): $(call FZ_FW_OBJS,cov,$(2)) $(B)/fuzz/cov-$(2)/fuzz_$(1).o $(B)/fuzz/cov-$(2)/replay.o
+	@echo "  LD-COV  $$@"; $$(FUZZ_CLANG) -fprofile-instr-generate $$^ -o $$@
+endef
+$(foreach t,$(FZ_ALL_TARGETS),$(foreach c,$(CARDS),$(eval $(call FZ_BIN_RULES,$(t),$(c)))))
+
+FZ_REPLAY_BINS := $(foreach t,$(FZ_ALL_TARGETS),$(foreach c,$(CARDS),$(B)/fuzz/replay-$(t)-$(c)))
+
+.PHONY: fuzz fuzz-replay fuzz-merge fuzz-cov fuzz-tools
+fuzz-replay: $(FZ_REPLAY_BINS)
+	@set -e; for t in $(FZ_ALL_TARGETS); do for c in $(CARDS); do \
+		dirs="tests/fuzz/corpus/$$t"; [ -d tests/fuzz/regress/$$t ] && dirs="$$dirs tests/fuzz/regress/$$t"; \
+		$(B)/fuzz/replay-$$t-$$c $$dirs; done; done
+
+fuzz-tools: deps
+	@command -v $(FUZZ_CLANG) >/dev/null || { echo "make fuzz needs clang: tools/bootstrap.sh installs it" >&2; exit 1; }
+
+fuzz: fuzz-tools $(foreach t,$(FUZZ_TARGETS),$(foreach c,$(FUZZ_CARDS),$(B)/fuzz/fuzz-$(t)-$(c)))
+	@mkdir -p $(B)/fuzz; : > $(B)/fuzz/summary.txt
+	@set -e; for t in $(FUZZ_TARGETS); do for c in $(FUZZ_CARDS); do \
+		tests/fuzz/run.sh $(B)/fuzz $$t $$c $(FUZZ_SECONDS) $(FUZZ_JOBS) | tee -a $(B)/fuzz/summary.txt; \
+	done; done
+	@echo "summary in $(B)/fuzz/summary.txt"
+
+fuzz-merge: $(foreach t,$(FUZZ_TARGETS),$(B)/fuzz/fuzz-$(t)-inc)
+	@set -e; for t in $(FUZZ_TARGETS); do for c in $(FUZZ_CARDS); do \
+		[ -d $(B)/fuzz/work/$$t-$$c ] || continue; \
+		$(MAKE) --no-print-directory $(B)/fuzz/fuzz-$$t-$$c; \
+		$(B)/fuzz/fuzz-$$t-$$c -merge=1 -max_len=4096 tests/fuzz/corpus/$$t $(B)/fuzz/work/$$t-$$c 2>&1 | tail -1; \
+	done; done
+
+fuzz-cov: fuzz-tools $(foreach t,$(FUZZ_TARGETS),$(foreach c,$(FUZZ_CARDS),$(B)/fuzz/cov-$(t)-$(c)))
+	@rm -rf $(B)/fuzz/prof; mkdir -p $(B)/fuzz/prof
+	@set -e; for t in $(FUZZ_TARGETS); do for c in $(FUZZ_CARDS); do \
+		dirs="tests/fuzz/corpus/$$t"; [ -d $(B)/fuzz/work/$$t-$$c ] && dirs="$$dirs $(B)/fuzz/work/$$t-$$c"; \
+		LLVM_PROFILE_FILE=$(B)/fuzz/prof/$$t-$$c.profraw $(B)/fuzz/cov-$$t-$$c $$dirs >/dev/null; \
+		$(LLVM_PROFDATA) merge -o $(B)/fuzz/prof/$$t-$$c.profdata $(B)/fuzz/prof/$$t-$$c.profraw; \
+		echo "== $$t on $$c: corpus $$dirs"; \
+		$(LLVM_COV) report $(B)/fuzz/cov-$$t-$$c -instr-profile=$(B)/fuzz/prof/$$t-$$c.profdata \
+			$(filter firmware/%,$(FW_SRCS)) | sed -n '1,2p;/^firmware/p;/^TOTAL/p'; \
+	done; done

@@ -1,0 +1,222 @@
+/*
+ * fuzz_queue.c - the VME command queue (manual 3.2, 7.3.2) under a host that
+ * writes anything: well-formed commands, arbitrary element bytes, arbitrary
+ * header words (indices out of range, wrong base/width/nel), a response
+ * queue it stops reading or wrecks, stop bits, emergency stop, MR.
+ *
+ * Input: a sequence of operations (tests/fuzz/README.md has the format).
+ * Checked on every main-loop pass, against the host's own view of the
+ * DPRAM before and after it:
+ *   - the card takes at most one command per pass, and exactly one while
+ *     the header is sane, the queue holds one and no MR is pending;
+ *   - a corrupt header is never read through: the card touches neither the
+ *     indices nor anything else of that queue, and counts the corruption
+ *     once (DPC_QUEUE_ERRORS);
+ *   - every command taken is answered exactly once: one response element in
+ *     the response queue (same axis, its code or an error 160-165, source 0,
+ *     reserved bytes 0), or, when the response queue is full or its header
+ *     corrupt, one count in DPC_RSP_LOST; nothing is answered that was not
+ *     taken; DPC_COMMANDS counts it;
+ *   - fuzz_hal.c: no odd word access, no write to DPRAM the card does not own,
+ *     no emulator fault, no firmware stop; ASan/UBSan: no memory error, no UB.
+ * At the end the host repairs the queues and the card answers VER.
+ */
+#include "fuzz_card.h"
+
+#define PASS_CYC US_TO_CYC(250)
+#define MAX_PASSES 6000
+
+static int host_reads;
+static int queue_bad;              /* our model of cmd.c's "corrupt header seen" */
+static unsigned passes;
+
+static void on_reset(void) { queue_bad = 0; }
+
+static void check_response(const fz_elem_t *cmd, const fz_elem_t *rsp)
+{
+    FZ_CHECK(rsp->axis == cmd->axis, "response axis %u for a command to axis %u", rsp->axis, cmd->axis);
+    FZ_CHECK(rsp->pad1 == 0 && rsp->pad2 == 0, "reserved response bytes not 0");
+    FZ_CHECK(rsp->source == MSG_SRC_VME, "response source %u", rsp->source);
+    FZ_CHECK(rsp->code == cmd->code || fz_is_error(rsp->code), "response code %u to command %u",
+             rsp->code, cmd->code);
+    if (cmd->axis >= MAC4_NAXES)
+        FZ_CHECK(rsp->code == ERR_AXIS, "axis %u answered %u, not 160", cmd->axis, rsp->code);
+    if (cmd->code == 7 && rsp->code == 7)
+        FZ_CHECK(rsp->param == FW_VER_WORD, "VER answered $%08X", (unsigned)rsp->param);
+}
+
+/* One main-loop pass, and every property of it. */
+static void pass(void)
+{
+    if (passes >= MAX_PASSES)
+        return;
+    passes++;
+    int cmd_ok = fz_hdr_ok(DP_CMD_QUEUE), rsp_ok = fz_hdr_ok(DP_RSP_QUEUE);
+    uint32_t c_front = fz_rd32(DP_CMD_QUEUE + QH_FRONT), c_rear = fz_rd32(DP_CMD_QUEUE + QH_REAR);
+    uint32_t r_front = fz_rd32(DP_RSP_QUEUE + QH_FRONT), r_rear = fz_rd32(DP_RSP_QUEUE + QH_REAR);
+    fz_elem_t cmd = {0, 0, 0, 0, 0, 0};
+    if (cmd_ok && c_front != c_rear)
+        cmd = fz_elem(DP_CMD_QUEUE, c_rear);
+    uint32_t lost0 = fz_rd32(DPC_RSP_LOST), cmds0 = fz_rd32(DPC_COMMANDS);
+    uint32_t qerr0 = fz_rd32(DPC_QUEUE_ERRORS);
+    int mr0 = cmd_mr_pending();
+    unsigned resets0 = fz_resets;
+
+    fz_pass(PASS_CYC);
+
+    if (fz_resets != resets0)
+        return;                    /* the watchdog reset the card: queues created anew */
+    uint32_t c_rear1 = fz_rd32(DP_CMD_QUEUE + QH_REAR), r_front1 = fz_rd32(DP_RSP_QUEUE + QH_FRONT);
+    int taken = 0;
+    if (!cmd_ok || mr0) {
+        FZ_CHECK(c_rear1 == c_rear, "rear moved %u -> %u (header corrupt or MR pending)",
+                 (unsigned)c_rear, (unsigned)c_rear1);
+    } else if (c_front == c_rear) {
+        FZ_CHECK(c_rear1 == c_rear, "rear moved on an empty queue");
+    } else {
+        FZ_CHECK(c_rear1 == q_next(c_rear, Q_NEL), "a command waits (front %u rear %u) but rear -> %u",
+                 (unsigned)c_front, (unsigned)c_rear, (unsigned)c_rear1);
+        taken = 1;
+    }
+    /* the corruption is counted once per episode */
+    if (!mr0) {
+        uint32_t qerr1 = fz_rd32(DPC_QUEUE_ERRORS);
+        uint32_t want = qerr0 + (!cmd_ok && !queue_bad ? 1u : 0u);
+        FZ_CHECK(qerr1 == want, "DPC_QUEUE_ERRORS %u, expected %u", (unsigned)qerr1, (unsigned)want);
+        queue_bad = !cmd_ok;
+    }
+    uint32_t lost = fz_rd32(DPC_RSP_LOST) - lost0;
+    uint32_t done = fz_rd32(DPC_COMMANDS) - cmds0;
+    FZ_CHECK(done == (uint32_t)taken, "DPC_COMMANDS +%u for %d command(s) taken", (unsigned)done, taken);
+    if (!taken) {
+        FZ_CHECK(lost == 0, "a response lost without a command");
+        FZ_CHECK(r_front1 == r_front, "a response without a command");
+    } else if (rsp_ok && q_next(r_front, Q_NEL) != r_rear) {
+        FZ_CHECK(lost == 0, "response lost with room in the response queue");
+        FZ_CHECK(r_front1 == q_next(r_front, Q_NEL), "command taken, response front %u -> %u",
+                 (unsigned)r_front, (unsigned)r_front1);
+        fz_elem_t rsp = fz_elem(DP_RSP_QUEUE, r_front);
+        check_response(&cmd, &rsp);
+    } else {
+        FZ_CHECK(lost == 1, "response queue full or corrupt: DPC_RSP_LOST +%u, not +1", (unsigned)lost);
+        FZ_CHECK(r_front1 == r_front, "a response written into a full or corrupt queue");
+    }
+    if (host_reads) {
+        fz_host_drain();
+        if (fz_hdr_ok(DP_RSP_QUEUE))
+            FZ_CHECK(fz_rd32(DP_RSP_QUEUE + QH_FRONT) == fz_rd32(DP_RSP_QUEUE + QH_REAR), "drain");
+    }
+}
+
+static void send(uint8_t axis, uint16_t code, uint32_t param, uint8_t source)
+{
+    host_send(&S, axis, code, param, source);
+}
+
+/* Poke a header word: mostly an index near the range, sometimes anything. */
+static void poke_header(fz_in_t *in, uint32_t q)
+{
+    static const uint32_t word[] = {QH_BASE, QH_FRONT, QH_REAR, QH_FREE, QH_WIDTH, QH_NEL};
+    uint8_t b = fz_u8(in);
+    uint32_t off = word[b % 6];
+    uint32_t v = (b & 0x80) ? fz_u32(in) : (uint32_t)(fz_u8(in) % 16);
+    fz_wr32(q + off, v);
+}
+
+/* At the end: the host repairs what it broke, and VER is answered. */
+static void final_ver(void)
+{
+    estop_set(&S, 0);
+    S.wdg.j11 = 1;
+    host_reads = 1;
+    for (int attempt = 0; attempt < 6; attempt++) {
+        fz_hdr_repair(DP_CMD_QUEUE);
+        fz_hdr_repair(DP_RSP_QUEUE);
+        FZ_CHECK(host_send(&S, 0, 7, 0, 0) == 1, "VER could not be queued after repair");
+        unsigned resets0 = fz_resets;
+        for (int i = 0; i < 2000 && fz_resets == resets0; i++) {
+            uint32_t f = fz_rd32(DP_RSP_QUEUE + QH_FRONT), r = fz_rd32(DP_RSP_QUEUE + QH_REAR);
+            if (f != r) {
+                fz_elem_t rsp = fz_elem(DP_RSP_QUEUE, r);
+                fz_host_drain();
+                FZ_CHECK(rsp.axis == 0, "VER answered for axis %u", rsp.axis);
+                if (rsp.code == 7) {
+                    FZ_CHECK(rsp.param == FW_VER_WORD, "VER answered $%08X", (unsigned)rsp.param);
+                    return;
+                }
+                FZ_CHECK(fz_is_error(rsp.code), "VER answered with code %u", rsp.code);
+                break;             /* an error waited to be reported: ask again */
+            }
+            fz_pass(PASS_CYC);
+        }
+    }
+    FZ_FAIL("the card no longer answers VER");
+}
+
+int LLVMFuzzerInitialize(int *argc, char ***argv)
+{
+    (void)argc;
+    (void)argv;
+    fz_init_once();
+    return 0;
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    fz_init_once();
+    FZ_FW_GUARD();
+    fz_on_reset = on_reset;
+    fz_power_on();
+    host_reads = 1;
+    queue_bad = 0;
+    passes = 0;
+    fz_in_t in = {data, size, 0};
+    while (fz_more(&in) && passes < MAX_PASSES) {
+        uint8_t op = fz_u8(&in);
+        switch (op % 12) {
+        case 0: {                                  /* a well-formed command */
+            uint8_t a = fz_u8(&in);
+            uint8_t axis = (a & 0x80) ? a : (uint8_t)(a & 3u);
+            uint16_t code = fz_code(&in);
+            send(axis, code, fz_param(&in), 0);
+            pass();
+            break;
+        }
+        case 1:                                    /* main-loop passes */
+            for (int n = 1 + fz_u8(&in) % 16; n > 0; n--)
+                pass();
+            break;
+        case 2: poke_header(&in, DP_CMD_QUEUE); break;
+        case 3: {                                  /* element bytes */
+            uint32_t off = fz_u8(&in) % (Q_NEL * Q_WIDTH);
+            for (int n = 1 + fz_u8(&in) % 10; n > 0; n--, off = (off + 1) % (Q_NEL * Q_WIDTH))
+                S.dpram[DP_CMD_QUEUE + Q_HEADER_SIZE + off] = fz_u8(&in);
+            break;
+        }
+        case 4: poke_header(&in, DP_RSP_QUEUE); break;
+        case 5:
+            fz_hdr_repair(DP_CMD_QUEUE);
+            fz_hdr_repair(DP_RSP_QUEUE);
+            break;
+        case 6: host_reads = !host_reads; break;
+        case 7:                                    /* idle: up to 250 ms */
+            for (int n = 4 * (1 + fz_u8(&in)); n > 0; n--)
+                pass();
+            break;
+        case 8: dp_wr16(&S, DP_STOP_BITS, fz_u16(&in)); break;
+        case 9: estop_set(&S, fz_u8(&in) & 1); break;
+        case 10: S.wdg.j11 = fz_u8(&in) & 1; break;
+        case 11: {                                 /* fill the queue with one command */
+            uint8_t axis = fz_u8(&in) & 3u;
+            uint16_t code = fz_code(&in);
+            uint32_t param = fz_param(&in);
+            for (int n = 0; n < (int)Q_NEL; n++)
+                send(axis, code, param, (uint8_t)(n & 1));
+            break;
+        }
+        }
+    }
+    final_ver();
+    fz_check_card("the final VER");
+    return 0;
+}
