@@ -31,7 +31,7 @@ static int64_t vq(unsigned n, int32_t v)
     q >>= sf;
     return v < 0 ? -q : q;
 #else
-    return ((int64_t)v << 16) >> sf;
+    return ((int64_t)v * 65536) >> sf;
 #endif
 }
 

@@ -39,18 +39,26 @@ int prof_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t 
         if (v > 0)
             v = 0;
     } else {
-        if (v > 0 && prof_must_brake(v, dec, rem)) {
+        /* the fastest of accelerate / hold / brake from which a stop with
+         * <dec> still ends at the target: u (u + dec) <= 2 dec rem */
+        int64_t up = v;
+        if (v < vmax) {
+            up = v + acc;
+            if (up > vmax)
+                up = vmax;
+        } else if (v > vmax) {                   /* <pv> lowered on the fly */
+            up = v - dec;
+            if (up < vmax)
+                up = vmax;
+        }
+        if (up > 0 && !prof_must_brake(up, dec, rem)) {
+            v = up;
+        } else if (v > 0 && v <= vmax && !prof_must_brake(v, dec, rem)) {
+            /* cruise */
+        } else {
             v -= dec;
             if (v < dec)
                 v = dec;                         /* creep: never stop short */
-        } else if (v < vmax) {
-            v += acc;
-            if (v > vmax)
-                v = vmax;
-        } else if (v > vmax) {                   /* <pv> lowered on the fly */
-            v -= dec;
-            if (v < vmax)
-                v = vmax;
         }
         if (v > rem)
             v = rem;                             /* land exactly */

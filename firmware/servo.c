@@ -15,6 +15,15 @@ static int32_t mul_q8(int32_t a, int16_t b)
     return muls(hi, b) + (muls(lo, b) >> 8);
 }
 
+/* (a * b) >> 2, same conditions: keeps the K A e' term to 1/256 LSB. */
+static int32_t mul_q2(int32_t a, int16_t b)
+{
+    IN_REG(a);
+    int16_t hi = (int16_t)(a >> 8);
+    int16_t lo = (int16_t)(a & 0xFF);
+    return muls(hi, b) * 64 + (muls(lo, b) >> 2);
+}
+
 void servo_set_gains(servo_gains_t *g, int32_t ga, int32_t ze, int32_t po, int32_t ki, int32_t kisc)
 {
     g->ga = (int16_t)ga;
@@ -47,7 +56,7 @@ int16_t servo_step(servo_state_t *s, const servo_gains_t *g, int32_t e32)
      * no multiply: on a 68000 each MULS.W is up to 70 cycles */
     int32_t u1 = muls(g->ga, e) * 64;
     if (g->ze)
-        u1 -= mul_q8(muls(g->ze, ep), g->ga) * 64;   /* (ze e' ga / 256) * 64 = ga ze e' / 4 */
+        u1 -= mul_q2(muls(g->ze, ep), g->ga);        /* ga ze e' / 4 */
     if (g->po)
         u1 -= mul_q8(s->u1, g->po);
     /* bound the lag state to 2^15 LSB (Q8: 2^23), 16 times full scale: the
@@ -64,7 +73,7 @@ int16_t servo_step(servo_state_t *s, const servo_gains_t *g, int32_t e32)
     if (g->ki) {
         int32_t r = s->u2_res + muls(g->ki, ep);
         int32_t q = r >> g->kisc;
-        s->u2_res = r - (q << g->kisc);
+        s->u2_res = r - (int32_t)((uint32_t)q << g->kisc);
         u2 += q;
     }
     if (u2 > (int32_t)SERVO_OUT_MAX * 256)       /* anti wind-up: u2 alone never */

@@ -1,5 +1,5 @@
 # Native unit tests (cmocka), built with ASan and UBSan.  Included by Makefile.
-UNIT_TESTS := test_crc16 test_queue test_boot test_runtime test_serial test_plant
+UNIT_TESTS := test_crc16 test_queue test_boot test_runtime test_serial test_plant test_servo test_profile
 SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 NATIVE_CFLAGS := -std=gnu11 -g -O1 -Wall -Wextra -Werror -Ihal -Ifirmware -Iharness -Ihal/target \
                  -DHAL_NATIVE -DMAC4_CARD=0 $(SAN)
@@ -8,7 +8,7 @@ NATIVE_SRCS := $(FW_SRCS) hal/native/hal_native.c hal/target/runtime.c \
 
 $(B)/unit/%: tests/unit/%.c tests/unit/unit_support.h $(NATIVE_SRCS) $(FW_HDRS) $(HARNESS_HDRS)
 	@mkdir -p $(@D)
-	@echo "  CC-ASAN $@"; $(HOSTCC) $(NATIVE_CFLAGS) $< $(NATIVE_SRCS) -lcmocka -o $@
+	@echo "  CC-ASAN $@"; $(HOSTCC) $(NATIVE_CFLAGS) $< $(NATIVE_SRCS) -lcmocka -lm -o $@
 
 unit: $(addprefix $(B)/unit/,$(UNIT_TESTS))
 	@set -e; for t in $(UNIT_TESTS); do echo "== $$t"; $(B)/unit/$$t; done

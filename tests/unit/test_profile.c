@@ -1,0 +1,139 @@
+/* The profile generator's arithmetic (firmware/profile.c). */
+#include "unit_support.h"
+#include <stdlib.h>
+#include "profile.h"
+
+static uint64_t seed = 0x9E3779B97F4A7C15ull;
+static uint32_t rnd32(void)
+{
+    seed ^= seed << 13;
+    seed ^= seed >> 7;
+    seed ^= seed << 17;
+    return (uint32_t)seed;
+}
+
+#define Q(x) ((int64_t)(x) * 65536)
+
+/* One move; checks landing, no overshoot, limits; returns the SP count. */
+static long move(int64_t from, int64_t to, int64_t v0, int64_t vmax, int64_t acc, int64_t dec)
+{
+    prof_t p = {from, v0};
+    int dir = to >= from ? 1 : -1;
+    long n = 0;
+    int64_t lastv = v0;
+    while (!prof_position(&p, to, vmax, acc, dec)) {
+        n++;
+        assert_true(n < 10000000);
+        int64_t v = p.vel * dir;
+        if (v0 * dir >= 0) {
+            /* never beyond the target, never faster than vmax (from rest) */
+            assert_true((to - p.pos) * dir >= 0);
+            assert_true(v <= vmax || v <= lastv);
+        }
+        int64_t dv = p.vel - lastv;
+        if (dv < 0)
+            dv = -dv;
+        assert_true(dv <= (acc > dec ? acc : dec));
+        lastv = p.vel;
+    }
+    assert_true(p.pos == to);
+    assert_true(p.vel == 0);
+    return n;
+}
+
+static void lands_exactly_random(void **st)
+{
+    (void)st;
+    for (int i = 0; i < 3000; i++) {
+        int64_t from = (int32_t)rnd32() >> 4, to = (int32_t)rnd32() >> 4;
+        int64_t vmax = Q(1 + rnd32() % 5000) + (rnd32() & 0xFFFF);
+        int64_t acc = Q(1 + rnd32() % 200) + (rnd32() & 0xFFFF);
+        int64_t dec = Q(1 + rnd32() % 200) + (rnd32() & 0xFFFF);
+        if (llabs(to - from) > 4000000)
+            to = from + (to > from ? 4000000 : -4000000);
+        move(Q(from), Q(to), 0, vmax, acc, dec);
+    }
+}
+
+static void triangle_and_trapezoid_timing(void **st)
+{
+    (void)st;
+    /* 100000 Inc with v 1000/SP, a = d = 100/SP^2: 10 SP up, 90 SP cruise, 10 down */
+    long n = move(0, Q(100000), 0, Q(1000), Q(100), Q(100));
+    print_message("trapezoid: %ld SP\n", n);
+    assert_true(n >= 108 && n <= 114);
+    /* short: a triangle, peak below vmax */
+    n = move(0, Q(1000), 0, Q(1000), Q(100), Q(100));
+    print_message("triangle: %ld SP\n", n);
+    assert_true(n >= 5 && n <= 9);
+}
+
+static void fractional_velocities(void **st)
+{
+    (void)st;   /* <sf> scaling: 1/256 increment per SP and less still arrive */
+    move(0, Q(3), 0, 256, 16, 16);
+    move(Q(10), Q(7), 0, 1000, 3, 5);
+}
+
+static void new_target_on_the_fly(void **st)
+{
+    (void)st;   /* 5.15 example 2: moving to 20000, new target 10000 */
+    prof_t p = {0, 0};
+    for (int i = 0; i < 20; i++)
+        prof_position(&p, Q(20000), Q(500), Q(50), Q(50));
+    assert_true(p.vel > 0);
+    long n = 0;
+    int64_t maxpos = 0;
+    while (!prof_position(&p, Q(10000), Q(500), Q(50), Q(50))) {
+        if (p.pos > maxpos)
+            maxpos = p.pos;
+        assert_true(++n < 100000);
+    }
+    assert_true(p.pos == Q(10000));
+    assert_true(maxpos <= Q(10000));   /* stops at the new target without passing it */
+}
+
+static void reversing_target(void **st)
+{
+    (void)st;   /* moving away from a new target: brake, turn, arrive */
+    move(Q(5000), Q(0), Q(300), Q(500), Q(40), Q(40));
+}
+
+static void ramps(void **st)
+{
+    (void)st;
+    prof_t p = {0, 0};
+    int n = 0;
+    while (!prof_ramp(&p, Q(1000), Q(100), Q(50)))
+        n++;
+    assert_int_equal(n, 9);
+    assert_true(p.vel == Q(1000));
+    n = 0;
+    while (!prof_ramp(&p, -Q(500), Q(100), Q(50)))   /* brake with dec, then accelerate */
+        n++;
+    assert_true(p.vel == -Q(500));
+    assert_int_equal(n, 20 + 5 - 1);
+}
+
+static void umul32_exact(void **st)
+{
+    (void)st;
+    for (int i = 0; i < 100000; i++) {
+        uint32_t a = rnd32(), b = rnd32();
+        assert_true(prof_umul32(a, b) == (uint64_t)a * b);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(lands_exactly_random),
+        cmocka_unit_test(triangle_and_trapezoid_timing),
+        cmocka_unit_test(fractional_velocities),
+        cmocka_unit_test(new_target_on_the_fly),
+        cmocka_unit_test(reversing_target),
+        cmocka_unit_test(ramps),
+        cmocka_unit_test(umul32_exact),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

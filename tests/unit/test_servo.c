@@ -1,0 +1,130 @@
+/* The position controller (firmware/servo.c) against a double-precision
+ * reference of the manual's difference equations (5.16). */
+#include <math.h>
+#include "unit_support.h"
+#include "servo.h"
+
+typedef struct { double u1, u2, e_prev; } ref_t;
+
+/* u1(k) = K e(k) - K A e(k-1) - B u1(k-1); u2(k) = C e(k-1) + u2(k-1),
+ * u2 limited to the DAC range (anti wind-up); u saturated to 12 bits. */
+static double ref_step(ref_t *r, int ga, int ze, int po, int ki, int kisc, double e)
+{
+    double K = ga / 4.0, A = ze / 256.0, B = po / 256.0, C = ki / (256.0 * (double)(1 << kisc));
+    double u1 = K * e - K * A * r->e_prev - B * r->u1;
+    double u2 = C * r->e_prev + r->u2;
+    if (u2 > 2047)
+        u2 = 2047;
+    if (u2 < -2048)
+        u2 = -2048;
+    r->u1 = u1;
+    r->u2 = u2;
+    r->e_prev = e;
+    double u = u1 + u2;
+    return u > 2047 ? 2047 : u < -2048 ? -2048 : u;
+}
+
+static uint32_t rng = 12345;
+static int32_t rnd(int32_t span)
+{
+    rng = rng * 1103515245u + 12345u;
+    return (int32_t)((rng >> 8) % (uint32_t)(2 * span + 1)) - span;
+}
+
+/* Runs n ticks of a following-error sequence; returns the largest
+ * |fixed - reference| in DAC LSB. */
+static double run(int ga, int ze, int po, int ki, int kisc, int kind, long n)
+{
+    servo_gains_t g;
+    servo_state_t s;
+    ref_t r = {0, 0, 0};
+    servo_set_gains(&g, ga, ze, po, ki, kisc);
+    servo_reset(&s);
+    double worst = 0;
+    int32_t e = 0;
+    for (long k = 0; k < n; k++) {
+        switch (kind) {
+        case 0: e += rnd(3); if (e > 150) e = 150; if (e < -150) e = -150; break;  /* random walk */
+        case 1: e = (int32_t)lround(60.0 * sin((double)k * 2 * M_PI / (200.0 + (double)(k % 7000) / 10.0))); break;
+        case 2: e = (k / 500) % 2 ? 40 : -25; break;                                  /* steps */
+        default: e = rnd(20); break;                                                  /* noise */
+        }
+        double want = ref_step(&r, ga, ze, po, ki, kisc, e);
+        int16_t got = servo_step(&s, &g, e);
+        double d = fabs((double)got - want);
+        if (d > worst)
+            worst = d;
+    }
+    return worst;
+}
+
+static void manual_inc_example(void **st)
+{
+    (void)st;   /* 7.2 MAC4-INC: WGA 80, WZE 128, WPO 0, UWKISC 3, WKI 41 */
+    for (int kind = 0; kind < 4; kind++) {
+        double w = run(80, 128, 0, 41, 3, kind, 400000);
+        print_message("INC example, signal %d: max |fixed - double| = %.4f LSB\n", kind, w);
+        assert_true(w <= 1.0);
+    }
+}
+
+static void manual_ssi_example(void **st)
+{
+    (void)st;   /* 7.2 MAC4-SSI: WGA 200, WZE 253, WPO 0, UWKISC 0, WKI 13 */
+    for (int kind = 0; kind < 4; kind++) {
+        double w = run(200, 253, 0, 13, 0, kind, 400000);
+        print_message("SSI example, signal %d: max |fixed - double| = %.4f LSB\n", kind, w);
+        assert_true(w <= 1.0);
+    }
+}
+
+static void with_a_pole_and_default_shift(void **st)
+{
+    (void)st;
+    for (int kind = 0; kind < 4; kind++)
+        assert_true(run(120, 200, 64, 300, 8, kind, 200000) <= 1.0);
+    assert_true(run(40, 0, -100, 0, 8, 0, 200000) <= 1.0);
+}
+
+static void integrator_does_not_drift(void **st)
+{
+    (void)st;
+    /* a constant small error: u2 must grow by exactly C e per tick */
+    servo_gains_t g;
+    servo_state_t s;
+    servo_set_gains(&g, 0, 0, 0, 1, 8);   /* C = 1/65536 */
+    servo_reset(&s);
+    int16_t u = 0;
+    for (long k = 0; k < 65536L * 3 + 1; k++)
+        u = servo_step(&s, &g, 1);
+    assert_int_equal(u, 3);               /* 3 * 65536 ticks * 1/65536 */
+}
+
+static void saturates_and_winds_up_no_further(void **st)
+{
+    (void)st;
+    servo_gains_t g;
+    servo_state_t s;
+    servo_set_gains(&g, 80, 0, 0, 32767, 0);
+    servo_reset(&s);
+    for (int k = 0; k < 10000; k++)
+        assert_int_equal(servo_step(&s, &g, 5000), 2047);
+    /* after the error reverses, the output leaves saturation within a few
+     * ticks: the integral part was held at the DAC range */
+    int k = 0;
+    while (servo_step(&s, &g, -20) > -2048 && k < 100)
+        k++;
+    assert_true(k < 100);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(manual_inc_example),
+        cmocka_unit_test(manual_ssi_example),
+        cmocka_unit_test(with_a_pole_and_default_shift),
+        cmocka_unit_test(integrator_does_not_drift),
+        cmocka_unit_test(saturates_and_winds_up_no_further),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
