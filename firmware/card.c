@@ -6,6 +6,7 @@
  */
 #include "fw.h"
 #include "hal.h"
+#include "mul16.h"
 #include "card.h"
 #include "cmd.h"
 #include "params.h"
@@ -222,6 +223,7 @@ static const uint32_t sw_ustat[8] = {
 static void axis_inputs(unsigned n)
 {
     axis_t *x = &axes[n];
+    PIN_PTR(x);
     uint16_t in = hal_rd16(AX_REG(n, AX_IN));
     x->in = in;
     if (MAC4_CARD == MAC4_CARD_SSI) {             /* J1 is readable from basic init on */
@@ -251,6 +253,7 @@ static void axis_inputs(unsigned n)
 static void axis_output(unsigned n, int32_t out)
 {
     axis_t *x = &axes[n];
+    PIN_PTR(x);
     uint16_t ctrl = (uint16_t)(x->ctrl & ~AX_CTRL_EN);
     if (x->mode != M_DISABLE)
         ctrl |= AX_CTRL_EN;

@@ -47,6 +47,10 @@ typedef struct {
      * main loop at INIT and E (axis_prepare) so the tick never looks up */
     int32_t sp_i;       /* setpoint, integer part */
     uint16_t sp_f;      /* and Q16 fraction */
+    uint16_t st_f;      /* the segment's step per tick, split the same way */
+    int32_t st_i;
+    int32_t start_i, end_i;   /* and its ends */
+    uint16_t start_f, end_f;
     uint8_t mk;         /* measurement kind, MK_* */
     uint8_t linear;     /* <sh> == 1 */
     int32_t cr, lp, ln, mf;

@@ -6,6 +6,7 @@
  */
 #include "fw.h"
 #include "hal.h"
+#include "mul16.h"
 #include "card.h"
 #include "params.h"
 #include "measure.h"
@@ -92,6 +93,7 @@ void measure_start(void)
 void measure_axis(unsigned n)
 {
     axis_t *x = &axes[n];
+    PIN_PTR(x);
     if (!axis_initialised(n))
         return;                                         /* position reads 0 before INIT (4.9) */
     int32_t d;

@@ -13,6 +13,7 @@
  */
 #include "fw.h"
 #include "hal.h"
+#include "mul16.h"
 #include "card.h"
 #include "params.h"
 #include "motion.h"
@@ -74,14 +75,17 @@ void motion_hold(unsigned n)
     x->seg_start = x->seg_end = x->nx_start = x->nx_end = x->prof.pos;
     x->seg_step = 0;
     x->nx_ready = 0;
-    x->sp_i = (int32_t)(x->prof.pos >> 16);
-    x->sp_f = (uint16_t)x->prof.pos;
+    x->sp_i = x->start_i = x->end_i = (int32_t)(x->prof.pos >> 16);
+    x->sp_f = x->start_f = x->end_f = (uint16_t)x->prof.pos;
+    x->st_i = 0;
+    x->st_f = 0;
 }
 
 /* Tick side, at each SP boundary: take the prepared segment, or hold. */
 int motion_segment(unsigned n)
 {
     axis_t *x = &axes[n];
+    PIN_PTR(x);
     int late = 0;
     if (x->nx_ready) {
         x->seg_start = x->nx_start;
@@ -92,6 +96,13 @@ int motion_segment(unsigned n)
         x->seg_start = x->seg_end;
     }
     x->seg_step = (x->seg_end - x->seg_start) >> 2;
+    /* split once here, so the ticks need only 32-bit arithmetic */
+    x->st_i = (int32_t)(x->seg_step >> 16);
+    x->st_f = (uint16_t)x->seg_step;
+    x->start_i = (int32_t)(x->seg_start >> 16);
+    x->start_f = (uint16_t)x->seg_start;
+    x->end_i = (int32_t)(x->seg_end >> 16);
+    x->end_f = (uint16_t)x->seg_end;
     return late;
 }
 
@@ -160,6 +171,7 @@ static int64_t sgn(int32_t v, int64_t mag) { return v < 0 ? -mag : mag; }
 void motion_profile_tick(unsigned n)
 {
     axis_t *x = &axes[n];
+    PIN_PTR(x);
     prof_t *p = &x->prof;
     if (x->nx_ready)
         return;                                  /* the tick has not taken the last one */
@@ -325,6 +337,7 @@ void motion_profile_tick(unsigned n)
 int16_t motion_servo_tick(unsigned n, unsigned phase)
 {
     axis_t *x = &axes[n];
+    PIN_PTR(x);
     if (x->mode == M_DISABLE) {
         x->setpoint = x->meas;
         x->ferr = 0;
@@ -346,15 +359,15 @@ int16_t motion_servo_tick(unsigned n, unsigned phase)
     /* Setpoint: the SP segment in four steps, integer + Q16 fraction in 32
      * bits; the segment's start and end are taken exactly from the profile. */
     if (phase == 3) {
-        x->sp_i = (int32_t)(x->seg_end >> 16);
-        x->sp_f = (uint16_t)x->seg_end;
+        x->sp_i = x->end_i;
+        x->sp_f = x->end_f;
     } else {
         if (phase == 0) {
-            x->sp_i = (int32_t)(x->seg_start >> 16);
-            x->sp_f = (uint16_t)x->seg_start;
+            x->sp_i = x->start_i;
+            x->sp_f = x->start_f;
         }
-        uint32_t f = (uint32_t)x->sp_f + (uint16_t)x->seg_step;
-        x->sp_i += (int32_t)(x->seg_step >> 16) + (int32_t)(f >> 16);
+        uint32_t f = (uint32_t)x->sp_f + x->st_f;
+        x->sp_i += x->st_i + (int32_t)(f >> 16);
         x->sp_f = (uint16_t)f;
     }
     x->setpoint = x->sp_i + (x->sp_f >= 0x8000u);

@@ -41,4 +41,12 @@ static inline int32_t muls16(int16_t a, int16_t b)
 #define IN_REG(x) ((void)0)
 #endif
 
+/* Pin a pointer in an address register: GCC 12 -Os for m68k would rather
+ * recompute &axes[n] (a multiply by the struct size) at every use. */
+#if defined(HAL_TARGET)
+#define PIN_PTR(p) __asm__("" : "+a"(p))
+#else
+#define PIN_PTR(p) ((void)0)
+#endif
+
 #endif
