@@ -13,6 +13,9 @@
 #include "measure.h"
 #include "serial.h"
 #include "motion.h"
+#if MAC4_CARD == MAC4_CARD_STP
+#include "stepper.h"
+#endif
 
 axis_t axes[MAC4_NAXES];
 uint32_t card_ostat;
@@ -104,6 +107,9 @@ void axis_prepare(unsigned n)
     x->lp = PAR(n, LP);
     x->ln = PAR(n, LN);
     x->mf = PAR(n, MF);
+#if MAC4_CARD == MAC4_CARD_STP
+    x->mf += stp_tol(n);                         /* 4.8.1: the tolerance of <ms>/(4 <es>) */
+#endif
     /* switch configuration (4.5): 0 off, 1 low active, 2 high active */
     static const uint16_t bits[4] = {AX_IN_IESP, AX_IN_IESN, AX_IN_RS, AX_IN_DF};
     int32_t cfg[4] = {PAR(n, PS), PAR(n, NS), PAR(n, RS), PAR(n, DF)};
@@ -258,24 +264,10 @@ static void axis_output(unsigned n, int32_t out)
     if (x->mode != M_DISABLE)
         ctrl |= AX_CTRL_EN;
 #if MAC4_CARD == MAC4_CARD_STP
-    if (x->sstat & SB(TURBO))
-        ctrl |= AX_CTRL_TURBO;
-    else
-        ctrl &= (uint16_t)~AX_CTRL_TURBO;
-    /* DIR at 0 V (bit set) = positive; open collector = negative (table 2.12) */
-    if (out < 0) {
-        ctrl &= (uint16_t)~AX_CTRL_DIR;
-        out = -out;
-    } else {
-        ctrl |= AX_CTRL_DIR;
-    }
-    /* rate register: 0.7629 Hz per LSB (table 4.1): 1/0.7629 = 21475/2^14
-     * within 0.005%; one MULU.W, no division */
-    if (out > 0xFFFF)
-        out = 0xFFFF;
-    out = (int32_t)(((uint32_t)(uint16_t)out * 21475u) >> 14);
-    if (out > 0xFFFF)
-        out = 0xFFFF;
+    /* DIR, BOOST, TURBO and the step rate register, prepared by stepper.c
+     * (stepper.h); `out` is not used: the rate is exact to the Q16 step */
+    (void)out;
+    out = stp_output(n, x->mode, &ctrl);
 #endif
     x->ctrl = ctrl;
     x->out = (int16_t)out;
@@ -292,7 +284,11 @@ static void publish(unsigned n)
     hal_wr32(d + DPA_POS, (uint32_t)x->pos);
     hal_wr32(d + DPA_SETPOINT, (uint32_t)x->setpoint);
     hal_wr32(d + DPA_FERR, (uint32_t)x->ferr);
+#if MAC4_CARD == MAC4_CARD_STP
+    hal_wr32(d + DPA_OUT, (uint32_t)stp_hz_now(n));   /* ROUT: Hz */
+#else
     hal_wr32(d + DPA_OUT, (uint32_t)(int32_t)x->out);
+#endif
     hal_wr32(d + DPA_VEL, (uint32_t)x->vel);
     hal_wr32(d + DPA_RAW, x->raw);
 }
@@ -353,6 +349,12 @@ void fw_isr_axis(void)
     /* Index and step-pulse interrupts: acknowledge by re-arming; used by the
      * justification modes and the STP creep phase (later issues). */
     uint16_t pending = hal_rd16(AXIS_IRQ_PENDING);
+#if MAC4_CARD == MAC4_CARD_STP
+    if (pending & 0x0FF0u)
+        stp_isr(pending);                        /* creep phase: step pulses, count done */
+    if (!(pending & 0x000Fu))
+        return;
+#endif
     for (unsigned n = 0; n < MAC4_NAXES; n++)
         if (pending & (1u << n))
             hal_wr16(AX_REG(n, AX_CTRL), (uint16_t)(axes[n].ctrl | AX_CTRL_IDX_ARM));

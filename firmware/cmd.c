@@ -18,6 +18,9 @@
 #include "params.h"
 #include "serial.h"
 #include "motion.h"
+#if MAC4_CARD == MAC4_CARD_STP
+#include "stepper.h"
+#endif
 
 /* ---- the command table -------------------------------------------------- */
 enum { CK_GEN_, CK_READ_, CK_MODE, CK_WPAR, CK_RPAR, CK_DIAG };
@@ -347,12 +350,20 @@ static uint32_t read_value(int ci, unsigned a)
     switch (ci) {
     case CI_VER: return FW_VER_WORD;
     case CI_RCP: return (uint32_t)x->pos;
+#if MAC4_CARD == MAC4_CARD_STP
+    case CI_RCPI: return (uint32_t)stp_counts(a);   /* encoder increments since INIT */
+#else
     case CI_RCPI: return x->counter;
+#endif
     case CI_RCT: return x->counter;
     case CI_RED: return x->raw;
     case CI_RFE: return (uint32_t)x->ferr;
+#if MAC4_CARD == MAC4_CARD_STP
+    case CI_ROUT: return (uint32_t)stp_out_hz(a);   /* step frequency, Hz */
+#else
     case CI_ROUT: return (uint32_t)(int32_t)x->out;
-    case CI_RPS: return 0;   /* command velocity: with the profile generator */
+#endif
+    case CI_RPS: return (uint32_t)(int32_t)(x->prof.vel >> 16);   /* command velocity per SP */
     case CI_RAV: return (uint32_t)x->vel;
     case CI_RAS: return card_ostat;
     case CI_RBS: return x->ustat;

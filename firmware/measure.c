@@ -10,6 +10,9 @@
 #include "card.h"
 #include "params.h"
 #include "measure.h"
+#if MAC4_CARD == MAC4_CARD_STP
+#include "stepper.h"
+#endif
 
 static uint32_t eb_mask(int32_t eb) { return eb >= 32 ? 0xFFFFFFFFu : (((uint32_t)1 << eb) - 1u); }
 
@@ -119,12 +122,21 @@ void measure_axis(unsigned n)
                 return;
             }
             d = (int32_t)raw - x->meas;
+#if MAC4_CARD == MAC4_CARD_STP
+            d = (int32_t)raw - stp_counts(n);           /* in increments, converted below */
+#endif
         } else {                                        /* relative */
             d = delta_eb(raw, x->counter, eb);
         }
         x->raw = raw;
         x->counter = raw;
     }
+#if MAC4_CARD == MAC4_CARD_STP
+    if (stp_conv & (1u << n))
+        d = stp_measured(n, d);                         /* increments -> steps: <ms>/(4 <es>) */
+    else if (x->ustat & UB(REV_O))
+        d = -d;                                         /* the step counter follows DIR (USR) */
+#endif
     x->meas += d;
     x->vel = d;
     int32_t pos = x->pos + d;
@@ -160,6 +172,9 @@ void measure_init(unsigned n)
         if (et == 2 || et == 4)
             x->meas = (int32_t)raw;
     }
+#if MAC4_CARD == MAC4_CARD_STP
+    stp_init(n);                                        /* ratio, tolerance, BR; meas in steps */
+#endif
     axis_prepare(n);
     axis_set_pos(n);
 }

@@ -38,6 +38,16 @@ static int64_t vq(unsigned n, int32_t v)
 
 static int64_t meas_q(unsigned n) { return Q16(axes[n].meas); }
 
+#if MAC4_CARD == MAC4_CARD_STP
+#include "stepper.h"
+/* 5.14: on the STP every ramp of every mode starts from stand-still with
+ * <ssf> and stops from at most <ssf> (stepper.c); set per axis at the top
+ * of motion_profile_tick. */
+static int64_t stp_ssf_now;
+#define prof_ramp(p, vt, acc, dec) stp_ramp(p, vt, acc, dec, stp_ssf_now)
+#define STP_UNLIMITED ((int64_t)1 << 48)
+#endif
+
 /* A user position (with <ao>) as a measurement-frame target. */
 static int64_t target_of(unsigned n, int32_t user)
 {
@@ -132,6 +142,9 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from)
     default:
         break;
     }
+#if MAC4_CARD == MAC4_CARD_STP
+    stp_motion_start(n, mode, vq(n, PAR(n, SSF)));   /* creep phase, <lv>, TURBO (stepper.c) */
+#endif
 }
 
 void motion_emergency(unsigned n, uint8_t then)
@@ -153,7 +166,11 @@ static int sw_active(unsigned n, uint32_t ubit) { return (axes[n].ustat & ubit) 
 static void justified(unsigned n, int set_zero)
 {
     axis_t *x = &axes[n];
+#if MAC4_CARD != MAC4_CARD_STP
     x->prof.pos = Q16(x->edge);
+#endif
+    /* (STP: the steps stop where they are, from <lv> <= <ssf>; no jump back
+     * to the edge, which would be a reversal above <ssf>) */
     x->prof.vel = 0;
     x->done = 1;
     if (set_zero) {
@@ -176,6 +193,12 @@ void motion_profile_tick(unsigned n)
     if (x->nx_ready)
         return;                                  /* the tick has not taken the last one */
     int64_t before = p->pos;
+#if MAC4_CARD == MAC4_CARD_STP
+    int64_t before_vel = p->vel;
+    if (x->mode == M_DISABLE || x->mode == M_TEST)
+        stp_status(n);                           /* system status bits (else stp_profile_end) */
+    stp_ssf_now = stp_ax[n].ssf;                 /* <ssf> on the rate grid, from E */
+#endif
 
     if (x->mode == M_DISABLE || x->mode == M_TEST) {
         motion_hold(n);
@@ -208,8 +231,13 @@ void motion_profile_tick(unsigned n)
             prof_ramp(p, vq(n, PAR(n, VT)), vq(n, PAR(n, PA)), vq(n, PAR(n, PD)));
             break;
         case M_VEL_TRACK:                        /* 5.11: acceleration not limited */
+#if MAC4_CARD == MAC4_CARD_STP
+            /* ... but from and to stand-still through <ssf> (5.14) */
+            prof_ramp(p, vq(n, PAR(n, VT)), STP_UNLIMITED, STP_UNLIMITED);
+#else
             p->vel = vq(n, PAR(n, VT));
             p->pos += p->vel;
+#endif
             break;
         case M_POS_TRACK: {                      /* 5.12: <at> within the next SP */
             int64_t t = target_of(n, PAR(n, AT));
@@ -218,15 +246,25 @@ void motion_profile_tick(unsigned n)
             break;
         }
         case M_POSITIONING:
+#if MAC4_CARD == MAC4_CARD_STP
+            /* ramps to <stc> steps before the target, then the creep phase (diagram 5.2) */
+            if (!x->done && stp_positioning(n, vq(n, PAR(n, PV)), vq(n, PAR(n, PA)), vq(n, PAR(n, PD)),
+                                            stp_ssf_now))
+                x->done = 1;
+#else
             if (!x->done && prof_position(p, x->target, vq(n, PAR(n, PV)), vq(n, PAR(n, PA)),
                                           vq(n, PAR(n, PD)))) {
                 x->done = 1;
             }
+#endif
             if (x->done && !(x->ustat & UB(POS_END))) {
                 /* 5.6: in the target radius for <trt> sampling periods */
                 int64_t d = (x->target >> 16) - x->meas;
                 if (d < 0)
                     d = -d;
+#if MAC4_CARD == MAC4_CARD_STP
+                d -= stp_tol(n);                 /* 5.6: the tolerance of <ms>/(4 <es>) */
+#endif
                 if (d <= PAR(n, TR)) {
                     if (x->trt_count >= x->trt_periods) {
                         x->ustat |= UB(POS_END);
@@ -263,9 +301,14 @@ void motion_profile_tick(unsigned n)
             int32_t hv = PAR(n, HV);
             switch (x->phase) {
             case 0:                              /* 1: find the reference switch */
-                if (sw_active(n, UB(REF)))
+                if (sw_active(n, UB(REF))) {
                     x->phase = 1;
-                else
+#if MAC4_CARD == MAC4_CARD_STP
+                    /* the braking ramp begins in this SP: a stepper must not pause at speed */
+                    if (prof_ramp(p, 0, vq(n, PAR(n, HD)), vq(n, PAR(n, HD))))
+                        x->phase = 2;
+#endif
+                } else
                     prof_ramp(p, vq(n, hv), vq(n, PAR(n, HA)), vq(n, PAR(n, HA)));
                 break;
             case 1:                              /* brake with <hd> */
@@ -275,7 +318,9 @@ void motion_profile_tick(unsigned n)
             case 2:                              /* 2: left edge of the switch at <lv> */
                 if (!sw_active(n, UB(REF))) {
                     p->vel = 0;
-                    p->pos = meas_q(n);
+#if MAC4_CARD != MAC4_CARD_STP
+                    p->pos = meas_q(n);          /* (STP: the steps stop where they are) */
+#endif
                     arm_index(n);
                     x->phase = 3;
                 } else {
@@ -298,9 +343,14 @@ void motion_profile_tick(unsigned n)
             int64_t fv = vq(n, PAR(n, FV) < 0 ? -PAR(n, FV) : PAR(n, FV));
             switch (x->phase) {
             case 0:
-                if (sw_active(n, bit))
+                if (sw_active(n, bit)) {
                     x->phase = 1;
-                else
+#if MAC4_CARD == MAC4_CARD_STP
+                    /* the braking ramp begins in this SP: a stepper must not pause at speed */
+                    if (prof_ramp(p, 0, vq(n, PAR(n, FD)), vq(n, PAR(n, FD))))
+                        x->phase = 2;
+#endif
+                } else
                     prof_ramp(p, sgn(dir, fv), vq(n, PAR(n, FA)), vq(n, PAR(n, FA)));
                 break;
             case 1:
@@ -325,6 +375,9 @@ void motion_profile_tick(unsigned n)
             break;
         }
     }
+#if MAC4_CARD == MAC4_CARD_STP
+    stp_profile_end(n, before, before_vel);     /* BOOST <bt> ahead of a move (4.1.4) */
+#endif
     /* the next SP's segment, for the tick to take at the boundary */
     if (x->mode != M_DISABLE && x->mode != M_TEST) {
         x->nx_start = before;
@@ -353,11 +406,18 @@ int16_t motion_servo_tick(unsigned n, unsigned phase)
         uint32_t raw = (hi << 16) | hal_rd16(AX_REG(n, AX_IDX_LO));
         int32_t d = (int32_t)((raw - x->counter) << 8) >> 8;   /* 24-bit counter */
         x->edge = x->meas + d;
+#if MAC4_CARD == MAC4_CARD_STP
+        x->edge = stp_edge(n, d);                /* increments -> steps */
+#endif
         x->idx_seen = 1;
     }
 
     /* Setpoint: the SP segment in four steps, integer + Q16 fraction in 32
      * bits; the segment's start and end are taken exactly from the profile. */
+#if MAC4_CARD == MAC4_CARD_STP
+    int32_t old_i = x->sp_i;
+    uint16_t old_f = x->sp_f;
+#endif
     if (phase == 3) {
         x->sp_i = x->end_i;
         x->sp_f = x->end_f;
@@ -372,6 +432,9 @@ int16_t motion_servo_tick(unsigned n, unsigned phase)
     }
     x->setpoint = x->sp_i + (x->sp_f >= 0x8000u);
     x->ferr = x->setpoint - x->meas;
+#if MAC4_CARD == MAC4_CARD_STP
+    stp_servo(x, n, phase, old_i, old_f);        /* step rate, creep phase, RFE (stepper.h) */
+#endif
 
     /* protective reactions (4.8, 6.3) */
     if (!x->stop_then) {
@@ -399,7 +462,7 @@ int16_t motion_servo_tick(unsigned n, unsigned phase)
         x->ustat &= ~(UB(SWL_P) | UB(SWL_N));
 
 #if MAC4_CARD == MAC4_CARD_STP
-    return 0;   /* the stepper output comes with the STP issue */
+    return 0;   /* the step rate goes out in axis_output (stp_output) */
 #else
     int16_t u = servo_step(&x->servo, &x->gains, x->ferr);
     return (x->ustat & UB(REV_O)) ? (int16_t)(u == SERVO_OUT_MIN ? SERVO_OUT_MAX : -u) : u;

@@ -1,0 +1,156 @@
+/*
+ * stepper.h - the MAC4-STP: open-loop step generation, the <ssf> rule of the
+ * profile (5.14), BOOST (4.1.4), the creep phase of positioning (5.6,
+ * diagram 5.2) and the increment/step conversion (4.4.2.3).  docs/stepper.md.
+ *
+ * The first part is plain arithmetic, compiled for every card (the linker
+ * drops it where nothing calls it) and unit-tested natively
+ * (tests/unit/test_stepper.c).  The second part is the STP card's axis logic.
+ */
+#ifndef STEPPER_H
+#define STEPPER_H
+#include <stdint.h>
+#include "profile.h"
+#include "mul16.h"
+
+/* ---- arithmetic -------------------------------------------------------- */
+/* DIVU.W: 32 / 16 bits, the quotient (it must fit 16 bits) in the low word,
+ * the remainder in the high word. */
+static inline uint32_t stp_divu16(uint32_t num, uint16_t den)
+{
+#if defined(HAL_TARGET)
+    __asm__("divu.w %1, %0" : "+d"(num) : "dmi"(den) : "cc");
+    return num;
+#else
+    return ((num % den) << 16) | (num / den);
+#endif
+}
+
+/* One SP of a velocity ramp towards vt obeying the start/stop frequency ssf
+ * (Q16 per SP, > 0): from stand-still the first speed is min(|vt|, ssf); a
+ * speed above ssf falls with dec to ssf and stops from there (a reversal
+ * stops first).  Between two speeds of the same sign it is prof_ramp().
+ * Returns 1 when vel == vt. */
+int stp_ramp(prof_t *p, int64_t vt, int64_t acc, int64_t dec, int64_t ssf);
+/* One SP of a move to target (Q16) starting with min(ssf, vmax), braking
+ * with dec down to ssf and landing from at most ssf: never a jump larger
+ * than ssf from or to stand-still.  Returns 1 once on target; vel is then
+ * the landing SP's speed (at most ssf), 0 from the next call on. */
+int stp_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t dec, int64_t ssf);
+/* ms / (4 es) in Q16, rounded, saturated at 0xFFFFFFFF; *exact = 1 when
+ * the Q16 value is exact.  Main loop (it divides). */
+uint32_t stp_ratio_q16(uint32_t ms, uint32_t es, int *exact);
+/* round(c * ratio) for a counter value c and a Q16 ratio: four MULU.W. */
+int32_t stp_scale(int32_t c, uint32_t ratio_q16);
+/* The step-rate register for a distance of mag (Q16 steps) in one 8 ms
+ * tick: the generator adds the rate 400 times per tick (TURBO: 4000), so
+ * rate = mag / 400; *carry keeps the remainder for the next tick, so the
+ * rates sum up to the distance exactly.  Saturates at 0xFFFF. */
+uint16_t stp_rate_of(uint32_t mag, uint32_t *carry, uint16_t clocks_per_tick);
+/* Hz of a rate register value: x 0.7629 (TURBO x 7.629). */
+int32_t stp_hz_of(uint16_t rate, int turbo);
+/* The rate register for f Hz (test mode, the creep): f / 0.7629, rounded
+ * down, so <lv> never comes out above <ssf>. */
+uint16_t stp_rate_hz(uint32_t hz);
+/* <ssf> (Q16 steps per SP) down to the rate register's grid (at least one
+ * LSB): a start to <ssf> or a stop from it then never comes out above <ssf>
+ * however the remainders of the rate division fall.  Main loop. */
+int64_t stp_ssf_grid(int64_t ssf, int turbo);
+
+#define STP_TICK_CLOCKS 400u          /* generator clocks per 8 ms tick (50 kHz) */
+#define STP_TICK_CLOCKS_TURBO 4000u   /* TURBO: 500 kHz */
+
+/* ---- the STP card -------------------------------------------------------- */
+#if MAC4_CARD == MAC4_CARD_STP
+#include "card.h"
+/* Per axis; public so that the tick's output stage (card.c) is a copy. */
+typedef struct {
+    /* measurement */
+    uint32_t ratio;         /* Q16 steps per increment */
+    int32_t inc;            /* the encoder since INIT, increments (RCPI) */
+    int32_t conv;           /* inc in steps */
+    int32_t tol;            /* steps one increment leaves open (<mf>, <tr>) */
+    /* output, prepared so that the tick only copies */
+    uint16_t rate;          /* the rate register */
+    uint16_t obits;         /* DIR, BOOST, TURBO for AX_CTRL */
+    uint16_t clocks;        /* generator clocks per tick: 400, TURBO 4000 */
+    int8_t dir;             /* direction of the last motion, 1 or -1 (0: none yet) */
+    uint32_t lim;           /* clocks << 16: the rate register's end */
+    uint32_t carry;         /* Q16 steps the rates still owe */
+    /* BOOST (4.1.4) */
+    uint8_t boost;          /* BOOST output on */
+    uint8_t boost_en;       /* BOOST on long enough: the move may go */
+    uint8_t active;         /* a move is under way: BOOST stays on */
+    uint32_t boost_tick;    /* card_ticks when it went on */
+    /* creep phase (5.6) */
+    uint8_t creep;          /* CREEP_* */
+    volatile uint8_t hw_done;       /* the down-counter ended (interrupt) */
+    volatile uint16_t counted;      /* creep pulses counted by interrupt */
+    int8_t creep_dir;
+    uint16_t creep_n;       /* pulses programmed */
+    uint16_t lv_rate;       /* rate register of <lv> */
+    int32_t creep_base;     /* position where the creep began */
+    int64_t creep_from;     /* where the ramps end and the creep begins (Q16) */
+    int64_t ssf;            /* <ssf>, Q16 steps per SP on the rate grid (at E) */
+} stp_t;
+extern stp_t stp_ax[MAC4_NAXES];
+#define STP_OBITS (AX_CTRL_DIR | AX_CTRL_BOOST | AX_CTRL_TURBO)
+#define STP_CREEP_IDLE 0
+
+/* AX_CTRL's DIR for a motion in direction dir: 0 V (bit set) = positive,
+ * open collector = negative (table 2.12); USR turns it round (4.2). */
+static inline uint16_t stp_dir_bit(const axis_t *x, int8_t dir)
+{
+    return ((dir >= 0) != ((x->ustat & UB(REV_O)) != 0)) ? AX_CTRL_DIR : 0;
+}
+
+/* measurement (measure.c) */
+void stp_init(unsigned n);                    /* INIT: ratio, tolerance, counts */
+extern uint8_t stp_conv;                      /* bit n: axis n counts increments */
+int32_t stp_measured(unsigned n, int32_t d);  /* tick: increments -> steps */
+int32_t stp_counts(unsigned n);               /* position counter in its units (RCPI) */
+int32_t stp_edge(unsigned n, int32_t d);      /* index latched d counts from here: steps */
+int32_t stp_tol(unsigned n);                  /* steps the encoder ratio leaves open */
+/* motion (motion.c) */
+void stp_motion_start(unsigned n, uint8_t mode, int64_t ssf);    /* E */
+void stp_status(unsigned n);                  /* once per SP: TURBO, status bits */
+int stp_positioning(unsigned n, int64_t vmax, int64_t acc, int64_t dec, int64_t ssf);
+void stp_profile_end(unsigned n, int64_t before, int64_t before_vel);  /* BOOST gate */
+int stp_creep_tick(unsigned n, unsigned phase, int32_t old_i, uint16_t old_f);
+void stp_trim(unsigned n);
+/* output stage and interrupts (card.c) */
+void stp_idle_output(unsigned n);             /* disabled or test mode */
+void stp_isr(uint16_t pending);
+int32_t stp_out_hz(unsigned n);               /* ROUT */
+
+/* Every tick, modes with a profile (motion_servo_tick, after the setpoint
+ * interpolation moved sp_i/sp_f on from old_i/old_f): the step rate for
+ * this tick's distance, setpoint and following error.  Out of line: inlined,
+ * it makes motion_servo_tick save more registers on every call. */
+void stp_servo(axis_t *x, unsigned n, unsigned phase, int32_t old_i, uint16_t old_f);
+
+/* axis_output, every tick: DIR, BOOST, TURBO of AX_CTRL; returns the rate. */
+static inline uint16_t stp_output(unsigned n, uint8_t mode, uint16_t *ctrl)
+{
+    stp_t *s = &stp_ax[n];
+    PIN_PTR(s);
+    if (mode == M_TEST || (mode == M_DISABLE && (s->rate | (s->obits & AX_CTRL_BOOST))))
+        stp_idle_output(n);
+    *ctrl = (uint16_t)((*ctrl & ~STP_OBITS) | s->obits);
+    return s->rate;
+}
+
+/* The step frequency now, Hz, signed: x 0.7629 (TURBO x 7.629). */
+static inline int32_t stp_hz_now(unsigned n)
+{
+    const stp_t *s = &stp_ax[n];
+    if (!s->rate)
+        return 0;
+    int32_t hz = (int32_t)((mulu16(s->rate, 25000u) + 0x4000u) >> 15);
+    if (s->clocks == STP_TICK_CLOCKS_TURBO)
+        hz *= 10;
+    return s->dir < 0 ? -hz : hz;
+}
+#endif
+
+#endif
