@@ -48,17 +48,76 @@ static void check_vector_fetch(unsigned addr)
     sim_fault(g_sim, "exception %u (%s)", v, vector_name(v));
 }
 
-unsigned int m68k_read_memory_8(unsigned int a) { return bus_read(g_sim, a, 1); }
-unsigned int m68k_read_memory_16(unsigned int a) { return bus_read(g_sim, a, 2); }
+/* Fast path (docs/performance.md, harness overhead): plain memory the bus
+ * would only copy from - the EPROM, the SRAM without an injected fault, the
+ * DPRAM once the boot overlay is gone - is read here directly, and the SRAM
+ * written directly; everything else goes through the bus map.  Same
+ * results, about a third less host time. */
+static inline const uint8_t *mem_fast(unsigned a, unsigned n)
+{
+    if (a - EPROM_BASE <= EPROM_SIZE - n)
+        return g_sim->eprom + (a - EPROM_BASE);
+    if (a - SRAM_BASE <= SRAM_SIZE - n && !g_sim->sram_fault_mask)
+        return g_sim->sram + (a - SRAM_BASE);
+    if (a >= 0x400 && a <= DPRAM_SIZE - n && !(g_sim->sysctl & SYS_CTRL_OVERLAY))
+        return g_sim->dpram + a;
+    return NULL;
+}
+
+unsigned int m68k_read_memory_8(unsigned int a)
+{
+    const uint8_t *m = mem_fast(a & 0xFFFFFF, 1);
+    return m ? m[0] : bus_read(g_sim, a, 1);
+}
+unsigned int m68k_read_memory_16(unsigned int a)
+{
+    const uint8_t *m = mem_fast(a & 0xFFFFFF, 2);
+    return m ? (unsigned)m[0] << 8 | m[1] : bus_read(g_sim, a, 2);
+}
 unsigned int m68k_read_memory_32(unsigned int a)
 {
+    const uint8_t *m = mem_fast(a & 0xFFFFFF, 4);
+    if (m)
+        return (unsigned)m[0] << 24 | (unsigned)m[1] << 16 | (unsigned)m[2] << 8 | m[3];
     if ((a & 0xFFFFFF) < 0x400)
         check_vector_fetch(a & 0xFFFFFF);
     return bus_read(g_sim, a, 4);
 }
-void m68k_write_memory_8(unsigned int a, unsigned int v) { bus_write(g_sim, a, v, 1); }
-void m68k_write_memory_16(unsigned int a, unsigned int v) { bus_write(g_sim, a, v, 2); }
-void m68k_write_memory_32(unsigned int a, unsigned int v) { bus_write(g_sim, a, v, 4); }
+static inline uint8_t *sram_fast(unsigned a, unsigned n)
+{
+    a &= 0xFFFFFF;
+    return a - SRAM_BASE <= SRAM_SIZE - n ? g_sim->sram + (a - SRAM_BASE) : NULL;
+}
+void m68k_write_memory_8(unsigned int a, unsigned int v)
+{
+    uint8_t *m = sram_fast(a, 1);
+    if (m)
+        m[0] = (uint8_t)v;
+    else
+        bus_write(g_sim, a, v, 1);
+}
+void m68k_write_memory_16(unsigned int a, unsigned int v)
+{
+    uint8_t *m = sram_fast(a, 2);
+    if (m) {
+        m[0] = (uint8_t)(v >> 8);
+        m[1] = (uint8_t)v;
+    } else {
+        bus_write(g_sim, a, v, 2);
+    }
+}
+void m68k_write_memory_32(unsigned int a, unsigned int v)
+{
+    uint8_t *m = sram_fast(a, 4);
+    if (m) {
+        m[0] = (uint8_t)(v >> 24);
+        m[1] = (uint8_t)(v >> 16);
+        m[2] = (uint8_t)(v >> 8);
+        m[3] = (uint8_t)v;
+    } else {
+        bus_write(g_sim, a, v, 4);
+    }
+}
 
 /* The disassembler reads without side effects. */
 static unsigned peek(unsigned a, int size)
@@ -81,8 +140,13 @@ unsigned int m68k_read_disassembler_32(unsigned int a) { return peek(a, 4); }
 
 int mac4_int_ack(int level)
 {
-    if (level == IRQ_LEVEL_ESTOP)
+    if (level == IRQ_LEVEL_ESTOP) {
         estop_irq_ack(g_sim);
+        /* The edge is taken: lower the line now.  Otherwise Musashi, which
+         * also lets level 7 trigger by level, takes it again after the RTE
+         * whenever the handler touched no I/O register (issue 6). */
+        sim_update_irq(g_sim);
+    }
     irq_enter(g_sim, level);
     expect_vector = 1;
     return (int)M68K_INT_ACK_AUTOVECTOR;

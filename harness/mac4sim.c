@@ -12,6 +12,11 @@
 
 static sim_t card;
 
+/* Defined only in the native builds (cpu_native.c, build/mac4sim-native-CARD):
+ * there the firmware compiled for the host replaces the 68000. */
+const cpu_t *mac4sim_native_cpu(void) __attribute__((weak));
+int mac4sim_native_card(void) __attribute__((weak));
+
 static void usage(FILE *f)
 {
     fprintf(f,
@@ -35,6 +40,8 @@ static void usage(FILE *f)
 int main(int argc, char **argv)
 {
     const char *cardname = "inc", *image = NULL, *script = "-";
+    if (mac4sim_native_card)
+        cardname = mac4sim_native_card() == MAC4_CARD_STP ? "stp" : mac4sim_native_card() == MAC4_CARD_SSI ? "ssi" : "inc";
     int allow_faults = 0, timestamps = 0, level = 3, j11 = 1;
     int serial_pty = 0;          /* --serial-pty, --serve-seconds: docs/serial.md */
     double serve_seconds = 0;
@@ -85,6 +92,11 @@ int main(int argc, char **argv)
         fprintf(stderr, "mac4sim: bad --card or --irq-level\n");
         return 1;
     }
+    if (mac4sim_native_card && cardno != mac4sim_native_card()) {
+        fprintf(stderr, "mac4sim: this native build runs the %s firmware only\n",
+                mac4sim_native_card() == MAC4_CARD_STP ? "stp" : mac4sim_native_card() == MAC4_CARD_SSI ? "ssi" : "inc");
+        return 1;
+    }
     char defimg[4096];
     if (!image) {
         char self[2048];
@@ -114,7 +126,7 @@ int main(int argc, char **argv)
     }
     if (serial_host_init(&card, serial_pty))
         return 1;
-    sim_attach_cpu(&card, serial_host_cpu(&cpu_m68k));
+    sim_attach_cpu(&card, serial_host_cpu(mac4sim_native_cpu ? mac4sim_native_cpu() : &cpu_m68k));
 
     FILE *in = strcmp(script, "-") ? fopen(script, "r") : stdin;
     if (!in) {

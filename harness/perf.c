@@ -5,10 +5,12 @@
  *   perf reset             start a measurement window now: interrupt table,
  *                          load, latency and probe statistics from zero
  *   perf irq               the interrupt table, one `perf-irq` line per source
- *   perf net SRC           ... also per occurrence of SRC minus the probes inside it
+ *   perf net               per source and occurrence: exclusive cycles less the
+ *                          probed functions that ran inside it
  *   perf track on|off      main-loop passes (calls of fw_main_step) classified as
  *                          command passes (cmd_execute ran) or idle polling
- *   perf probe FUNC        inclusive cycles per call of FUNC, nested ISRs excluded
+ *   perf probe FUNC        inclusive cycles per call of FUNC, nested ISRs excluded,
+ *                          and per profile period (the calls that ended in it)
  *   perf load              CPU load over the window (needs `perf track on`)
  *   perf latency           host enqueue -> response in the response queue
  *   perf latency-log on|off  print every latency as it is measured (perf-lat)
@@ -18,10 +20,15 @@
  *   perf ticks FILE|-|off  one line per timer tick: outputs, counters, axis data
  *   perf sample FILE AXIS|off  CSV per tick: setpoint, position, following
  *                          error, output (DPRAM axis data) and the DAC/rate register
- *   perf axis-sync on      the axis board on the tick grid (sim.h, axis_sync)
+ *   perf axis-sync on      the axis board on logical time, the timer held while
+ *                          the card has host input (sim.h axis_sync; the
+ *                          differential test)
  *   perf report            irq, net, probes, load and latency together
- *   run-ticks N            run until N more timer ticks have expired (stops at
- *                          the expiry, before the CPU sees it)
+ *   perf table             the cycle table for people, with the budgets used
+ *   run-ticks N [off-sp]   run until N more timer ticks have expired (stops at
+ *                          the expiry, before the CPU sees it); off-sp: and on,
+ *                          one tick at a time, until the next tick does not begin
+ *                          a profile period
  *
  * Probes and passes watch the 68000's program counter through the Musashi
  * instruction hook (profile.c) and the symbols of build/eprom/mac4-CARD.sym:
@@ -93,7 +100,7 @@ typedef struct {
     int depth;               /* interrupt nesting depth at entry (0: main loop) */
     stat_t st;
     /* per profile period (PROFILE_DIVIDER ticks from a tick the firmware
-     * counts as phase 0): the cycles of the calls that started in it */
+     * counts as phase 0): the cycles of the calls that ended in it */
     long long win;
     cyc_t win_sum, win_start;
     stat_t wst;
@@ -108,6 +115,7 @@ static int track;
 static probe_t pass;
 static uint32_t cmd_entry;
 static int pass_cmd;
+static cyc_t pass_probe, cmd_probe;  /* probe cycles in this pass, in all command passes */
 static stat_t pass_cmd_st, pass_idle_st;
 
 /* interrupt occurrences minus the probes that ran inside them */
@@ -132,8 +140,7 @@ static uint64_t host_load_sent;
 /* per-tick logs */
 static FILE *ticks_f, *sample_f;
 static int sample_axis;
-static cyc_t tmr_last_seen, tmr_next_seen;
-static int tick_started;
+static cyc_t tmr_last_seen;
 
 static const char *const src_key[SRC_COUNT] = {"uart", "axis", "timer", "estop", "other"};
 
@@ -154,7 +161,11 @@ static void probe_start(sim_t *s, probe_t *p, cyc_t now)
 
 static uint64_t tick_no;
 
-static long long window_of_now(void) { return tick_no ? (long long)((tick_no - 1) / PROFILE_DIVIDER) : -1; }
+/* Profile periods: a new one starts at each timer expiry after which the
+ * firmware runs its phase-0 tick, i.e. when the tick count it publishes at
+ * DPC_TICKS (ticks done so far) is a multiple of PROFILE_DIVIDER. */
+static long long win_no;
+static long long window_of_now(void) { return win_no; }
 
 static void window_flush(probe_t *p)
 {
@@ -168,20 +179,28 @@ static cyc_t probe_end(probe_t *p, cyc_t now)
     p->active = 0;
     cyc_t d = now - p->start - p->nested;
     stat_add(&p->st, d, p->start);
+    /* the period the call ended in: a call that begins just before a tick
+     * sets the flag it acts on may well do its work for the new period */
     long long w = window_of_now();
     if (w != p->win) {
         window_flush(p);
         p->win = w;
-        p->win_start = p->start;
     }
+    if (!p->win_sum)
+        p->win_start = p->start;
     p->win_sum += d;
     return d;
 }
+
+static uint32_t sp_low = SRAM_BASE + SRAM_SIZE;   /* the deepest stack seen (SRAM stack) */
 
 static void instr_hook(unsigned pc)
 {
     sim_t *s = S;
     cyc_t now = sim_now(s);
+    uint32_t sp = cpu_sp();
+    if (sp < sp_low && sp >= SRAM_BASE)
+        sp_low = sp;
     for (int i = 0; i < nprobes; i++) {
         probe_t *p = &probes[i];
         if (p->active) {
@@ -189,6 +208,8 @@ static void instr_hook(unsigned pc)
                 cyc_t d = probe_end(p, now);
                 if (p->depth > 0 && p->depth <= 8)
                     isr_probe_cycles[p->depth - 1] += d;
+                else if (pass.active)
+                    pass_probe += d;
             }
         } else if (pc == p->entry) {
             probe_start(s, p, now);
@@ -201,10 +222,13 @@ static void instr_hook(unsigned pc)
             else if (pc == pass.ret && cpu_sp() == pass.sp + 4) {
                 cyc_t d = probe_end(&pass, now);
                 stat_add(pass_cmd ? &pass_cmd_st : &pass_idle_st, d, pass.start);
+                if (pass_cmd)
+                    cmd_probe += pass_probe;
             }
         } else if (pc == pass.entry && s->nactive == 0) {
             probe_start(s, &pass, now);
             pass_cmd = 0;
+            pass_probe = 0;
         }
     }
 }
@@ -257,23 +281,26 @@ static void on_bus_write(sim_t *s, uint32_t addr, uint32_t v, int size)
     check_reset(s);
     uint32_t f;
     if (lo + (uint32_t)size > DP_CMD_QUEUE + QH_FRONT && lo < DP_CMD_QUEUE + QH_FRONT + 4) {
-        if (queue_ok(s, DP_CMD_QUEUE, &f))
-            cmdq_seen = f;                  /* the card created the queue */
+        cmdq_seen = dp_rd32(s, DP_CMD_QUEUE + QH_FRONT);   /* the card creates the queue */
         return;
     }
     if (!(lo + (uint32_t)size > DP_RSP_QUEUE + QH_FRONT && lo < DP_RSP_QUEUE + QH_FRONT + 4))
         return;
-    if (!queue_ok(s, DP_RSP_QUEUE, &f))
+    if (!queue_ok(s, DP_RSP_QUEUE, &f)) {                 /* being created */
+        rspq_seen = dp_rd32(s, DP_RSP_QUEUE + QH_FRONT);
         return;
+    }
     if (rspq_seen < Q_NEL && f != rspq_seen) {
         unsigned k = (f + Q_NEL - rspq_seen) % Q_NEL;
         cyc_t now = sim_now(s);
         while (k--) {
             if (!lat_n) {
                 lat_unmatched++;
+                if (lat_log)
+                    fprintf(out, "perf-lat unmatched response at %.3f ms\n", ms_of(now));
                 continue;
             }
-            if (lat_fifo[lat_head] >= lat_window)   /* sent before `perf reset`: not counted */
+            if (lat_fifo[lat_head] >= lat_window && lat_fifo[lat_head])   /* sent before `perf reset`: not counted */
                 stat_add(&lat_st, now - lat_fifo[lat_head], lat_fifo[lat_head]);
             if (lat_log)
                 fprintf(out, "perf-lat enq_ms=%.3f rsp_ms=%.3f us=%.1f\n", ms_of(lat_fifo[lat_head]), ms_of(now),
@@ -285,6 +312,65 @@ static void on_bus_write(sim_t *s, uint32_t addr, uint32_t v, int size)
     rspq_seen = f;
 }
 
+/* A timer tick: count it, and log what the card put out during the last one. */
+static void tick_poll(sim_t *s)
+{
+    if (s->tmr.last == tmr_last_seen)
+        return;
+    tmr_last_seen = s->tmr.last;
+    if (!(s->tmr.status & TMR_ST_EXPIRED)) {
+        tick_no = 0;                /* the timer was (re)started */
+        return;
+    }
+    tick_no++;
+    if (dp_rd32(s, DPC_TICKS) % PROFILE_DIVIDER == 0)
+        win_no++;
+    cyc_t now = sim_now(s);
+    if (ticks_f) {
+        cyc_t t = sim_axis_peek(s);
+        fprintf(ticks_f, "tick %llu", (unsigned long long)tick_no);
+        for (int n = 0; n < MAC4_NAXES; n++) {
+            axis_hw_t *a = &s->ax[n];
+            fprintf(ticks_f, " | %d %04X", s->card == MAC4_CARD_STP ? (int)a->rate : (int)a->dac, a->ctrl);
+            if (s->card == MAC4_CARD_STP)   /* the plant is up to date: periph_events */
+                fprintf(ticks_f, " g%lld", (long long)s->plant.ax[n].gen);
+            if (s->card == MAC4_CARD_SSI)
+                fprintf(ticks_f, " s%06X", plant_ssi_value(s, n, t));
+            else
+                fprintf(ticks_f, " c%06X", plant_counter(s, n, t));
+            for (uint32_t w = 0; w < 0x20; w += 4)
+                fprintf(ticks_f, " %X", dp_rd32(s, DP_AXIS_DATA(n) + w));
+        }
+        fputc('\n', ticks_f);
+    }
+    if (sample_f) {
+        uint32_t d = DP_AXIS_DATA(sample_axis);
+        axis_hw_t *a = &s->ax[sample_axis];
+        fprintf(sample_f, "%.3f,%d,%d,%d,%d,%d\n", ms_of(now), (int32_t)dp_rd32(s, d + DPA_SETPOINT),
+                (int32_t)dp_rd32(s, d + DPA_POS), (int32_t)dp_rd32(s, d + DPA_FERR),
+                (int32_t)dp_rd32(s, d + DPA_OUT), s->card == MAC4_CARD_STP ? (int)a->rate : (int)a->dac);
+    }
+}
+
+/* axis_sync: while the card has host input to work on (commands in the
+ * queue, serial bytes on the line) and HOLD_CYC after, the next tick waits.
+ * Both CPUs then finish a command between the same two ticks, however long
+ * it takes them; on logical time the plant does not notice. */
+#define HOLD_CYC MS_TO_CYC(20)
+static cyc_t hold_until;
+
+static void hold_timer(sim_t *s, cyc_t now)
+{
+    if (s->tmr.next == CYC_NEVER)
+        return;
+    uint32_t front = dp_rd32(s, DP_CMD_QUEUE + QH_FRONT), rear = dp_rd32(s, DP_CMD_QUEUE + QH_REAR);
+    int busy = front != rear || s->uart.wire_head != s->uart.wire_tail || s->uart.rx_full;
+    if (busy)
+        hold_until = now + HOLD_CYC;
+    if (hold_until > now && s->tmr.next < hold_until)
+        s->tmr.next = hold_until;
+}
+
 static const char *const load_cmds[] = {"RBS", "RCP", "RFE", "ROUT"};
 
 static void on_slice(sim_t *s, cyc_t now, int host_polled)
@@ -292,8 +378,11 @@ static void on_slice(sim_t *s, cyc_t now, int host_polled)
     check_reset(s);
     /* the host's enqueues happen between slices: see them at the next one */
     if (host_load && host_polled && lat_n == 0) {
-        unsigned i = host_load_i++;
-        long code = script_code(load_cmds[(i / MAC4_NAXES) % 4]);
+        static long codes[4] = {-2, -2, -2, -2};
+        unsigned i = host_load_i++, c = (i / MAC4_NAXES) % 4;
+        if (codes[c] == -2)
+            codes[c] = script_code(load_cmds[c]);
+        long code = codes[c];
         if (code >= 0 && host_send(s, (uint8_t)(i % MAC4_NAXES), (uint16_t)code, 0, MSG_SRC_VME) == 1)
             host_load_sent++;
     }
@@ -308,47 +397,9 @@ static void on_slice(sim_t *s, cyc_t now, int host_polled)
         }
         cmdq_seen = f;
     }
-    /* timer ticks */
-    if (s->tmr.last != tmr_last_seen) {
-        int expiry = tick_started && s->tmr.last == tmr_next_seen;
-        tmr_last_seen = s->tmr.last;
-        if (!expiry) {
-            tick_started = 1;           /* the timer was (re)started */
-            tick_no = 0;
-        } else {
-            tick_no++;
-            if (ticks_f) {
-                cyc_t t = sim_axis_peek(s);
-                fprintf(ticks_f, "tick %llu", (unsigned long long)tick_no);
-                for (int n = 0; n < MAC4_NAXES; n++) {
-                    axis_hw_t *a = &s->ax[n];
-                    fprintf(ticks_f, " | %d %04X", s->card == MAC4_CARD_STP ? (int)a->rate : (int)a->dac,
-                            a->ctrl);
-                    if (s->card == MAC4_CARD_STP) {
-                        int64_t gen, lost;
-                        plant_step_counts(s, n, &gen, &lost);
-                        fprintf(ticks_f, " g%lld", (long long)gen);
-                    }
-                    if (s->card == MAC4_CARD_SSI)
-                        fprintf(ticks_f, " s%06X", plant_ssi_value(s, n, t));
-                    else
-                        fprintf(ticks_f, " c%06X", plant_counter(s, n, t));
-                    for (uint32_t w = 0; w < 0x20; w += 4)
-                        fprintf(ticks_f, " %X", dp_rd32(s, DP_AXIS_DATA(n) + w));
-                }
-                fputc('\n', ticks_f);
-            }
-            if (sample_f) {
-                uint32_t d = DP_AXIS_DATA(sample_axis);
-                axis_hw_t *a = &s->ax[sample_axis];
-                fprintf(sample_f, "%.3f,%d,%d,%d,%d,%d\n", ms_of(now), (int32_t)dp_rd32(s, d + DPA_SETPOINT),
-                        (int32_t)dp_rd32(s, d + DPA_POS), (int32_t)dp_rd32(s, d + DPA_FERR),
-                        (int32_t)dp_rd32(s, d + DPA_OUT),
-                        s->card == MAC4_CARD_STP ? (int)a->rate : (int)a->dac);
-            }
-        }
-    }
-    tmr_next_seen = s->tmr.next;
+    tick_poll(s);
+    if (s->axis_sync)
+        hold_timer(s, now);
 }
 
 /* ---- the window -------------------------------------------------------------- */
@@ -369,6 +420,7 @@ static void window_reset(sim_t *s)
     stat_clear(&pass.st);
     stat_clear(&pass_cmd_st);
     stat_clear(&pass_idle_st);
+    cmd_probe = 0;
     stat_clear(&lat_st);
     lat_unmatched = 0;
     lat_window = sim_now(s);
@@ -387,11 +439,14 @@ static void install(sim_t *s)
     s->on_slice = on_slice;
     resets_seen = s->resets;
     tmr_last_seen = s->tmr.last;
-    tmr_next_seen = s->tmr.next;
-    tick_started = s->tmr.next != CYC_NEVER;
     uint32_t f;
-    if (queue_ok(s, DP_CMD_QUEUE, &f))
+    if (queue_ok(s, DP_CMD_QUEUE, &f)) {
+        /* commands already waiting: answered later, their time unknown */
+        uint32_t rear = dp_rd32(s, DP_CMD_QUEUE + QH_REAR);
+        for (unsigned k = rear < Q_NEL ? (f + Q_NEL - rear) % Q_NEL : 0; k; k--)
+            lat_fifo[(lat_head + lat_n++) % LAT_FIFO] = 0;
         cmdq_seen = f;
+    }
     if (queue_ok(s, DP_RSP_QUEUE, &f))
         rspq_seen = f;
     stat_clear(&pass.st);
@@ -418,6 +473,13 @@ static void print_irq(sim_t *s)
     }
 }
 
+/* CPU load over the window: the interrupts (exclusive cycles) and the main
+ * loop's work, i.e. every pass's cycles beyond the cheapest idle pass (the
+ * bare poll the loop spins in when there is nothing to do).  Of that work,
+ * "cmd" is what the passes that executed a command needed beyond the bare
+ * poll (queue read, decode, execution, response) less the probes' cycles in
+ * them, "profile" the probes' cycles at main-loop level (card_profile_tick
+ * when probed). */
 static void print_load(sim_t *s)
 {
     cyc_t w = sim_now(s) - s->irq_window_start;
@@ -429,14 +491,26 @@ static void print_load(sim_t *s)
         isr += s->irq[i].xsum;
         fprintf(out, " %s=%.3f", src_key[i], 100.0 * (double)s->irq[i].xsum / (double)w);
     }
-    double cmd = 100.0 * (double)pass_cmd_st.sum / (double)w;
-    double idle = 100.0 * (double)pass_idle_st.sum / (double)w;
-    fprintf(out, " isr=%.3f cmd=%.3f idle=%.3f total=%.3f tracked=%d cmd_passes=%llu idle_passes=%llu "
-            "host_load_sent=%llu\n", 100.0 * (double)isr / (double)w, cmd, idle,
-            100.0 * (double)isr / (double)w + cmd, track, (unsigned long long)pass_cmd_st.count,
-            (unsigned long long)pass_idle_st.count, (unsigned long long)host_load_sent);
+    cyc_t idle_min = pass_idle_st.count ? pass_idle_st.min : (pass_cmd_st.count ? pass_cmd_st.min : 0);
+    uint64_t npass = pass_cmd_st.count + pass_idle_st.count;
+    cyc_t all = pass_cmd_st.sum + pass_idle_st.sum;
+    cyc_t main_work = all > npass * idle_min ? all - npass * idle_min : 0;
+    cyc_t cmd = pass_cmd_st.sum > pass_cmd_st.count * idle_min + cmd_probe
+              ? pass_cmd_st.sum - pass_cmd_st.count * idle_min - cmd_probe : 0;
+    cyc_t prof = 0;
+    for (int i = 0; i < nprobes; i++)
+        if (probes[i].depth == 0)
+            prof += probes[i].st.sum;
+    double pc = 100.0 / (double)w;
+    fprintf(out, " isr=%.3f main=%.3f cmd=%.3f profile=%.3f total=%.3f idle_pass_min=%llu tracked=%d "
+            "cmd_passes=%llu idle_passes=%llu host_load_sent=%llu\n", pc * (double)isr, pc * (double)main_work,
+            pc * (double)cmd, pc * (double)prof, pc * (double)(isr + main_work), (unsigned long long)idle_min, track,
+            (unsigned long long)pass_cmd_st.count, (unsigned long long)pass_idle_st.count,
+            (unsigned long long)host_load_sent);
     stat_print("perf-pass", "cmd", &pass_cmd_st);
     stat_print("perf-pass", "idle", &pass_idle_st);
+    if (track || nprobes)
+        fprintf(out, "perf-stack deepest_bytes=%u\n", (unsigned)(SRAM_BASE + SRAM_SIZE - sp_low));
 }
 
 static void print_latency(void)
@@ -468,6 +542,63 @@ static void print_net(void)
 {
     for (int i = 0; i < SRC_COUNT; i++)
         stat_print("perf-net", src_key[i], &net[i]);
+}
+
+/* The cycle table for people, with the budgets of issue 6 (docs/performance.md):
+ * the servo tick 10% of its period, the profile generator 6000 cycles per
+ * 10 ms (INC/SSI) or 10% of 32 ms (STP), the whole card 25%, a command 2 ms. */
+static void print_table(sim_t *s)
+{
+    int stp = s->card == MAC4_CARD_STP;
+    cyc_t period = US_TO_CYC(stp ? SERVO_PERIOD_US_STP : SERVO_PERIOD_US_SERVO);
+    cyc_t w = sim_now(s) - s->irq_window_start;
+    static const char *const names[SRC_COUNT] = {"serial (L4)", "axis board (L5)", "timer tick (L6)",
+                                                 "emergency stop (L7)", "other"};
+    fprintf(out, "cycles at 16 MHz over %.1f ms            count     min    mean     max  load%%   budget  used\n",
+            ms_of(w));
+    for (int i = 0; i < SRC_COUNT; i++) {
+        const stat_t *n = &net[i];
+        if (!n->count)
+            continue;
+        fprintf(out, "  %-36s %7llu %7llu %7llu %7llu %6.2f", names[i], (unsigned long long)n->count,
+                (unsigned long long)n->min, (unsigned long long)(n->sum / n->count), (unsigned long long)n->max,
+                w ? 100.0 * (double)s->irq[i].xsum / (double)w : 0.0);
+        if (i == SRC_TIMER)
+            fprintf(out, " %8llu %4.0f%%", (unsigned long long)(period / 10),
+                    100.0 * (double)n->max / (double)(period / 10));
+        fputc('\n', out);
+    }
+    for (int i = 0; i < nprobes; i++) {
+        probe_t *p = &probes[i];
+        stat_t wst = p->wst;
+        if (p->win_sum)
+            stat_add(&wst, p->win_sum, p->win_start);
+        if (!wst.count)
+            continue;
+        cyc_t budget = stp ? period * PROFILE_DIVIDER / 10 : 6000;
+        char label[96];
+        snprintf(label, sizeof label, "%.63s per %u ms", p->name, (unsigned)(period * PROFILE_DIVIDER / 16000));
+        fprintf(out, "  %-36s %7llu %7llu %7llu %7llu %6.2f %8llu %4.0f%%\n", label, (unsigned long long)wst.count,
+                (unsigned long long)wst.min, (unsigned long long)(wst.sum / wst.count), (unsigned long long)wst.max,
+                w ? 100.0 * (double)wst.sum / (double)w : 0.0, (unsigned long long)budget,
+                100.0 * (double)wst.max / (double)budget);
+    }
+    if (track && w) {
+        cyc_t idle_min = pass_idle_st.count ? pass_idle_st.min : 0;
+        uint64_t npass = pass_cmd_st.count + pass_idle_st.count;
+        cyc_t all = pass_cmd_st.sum + pass_idle_st.sum, isr = 0;
+        for (int i = 0; i < SRC_COUNT; i++)
+            isr += s->irq[i].xsum;
+        cyc_t main_work = all > npass * idle_min ? all - npass * idle_min : 0;
+        double load = 100.0 * (double)(isr + main_work) / (double)w;
+        fprintf(out, "  %-36s %7s %7s %7s %7s %6.2f %7s%% %4.0f%%\n", "CPU load (interrupts + main loop)", "", "",
+                "", "", load, "25", load / 25.0 * 100.0);
+    }
+    if (lat_st.count)
+        fprintf(out, "  %-36s %7llu %7.2f %7.2f %7.2f %6s %5s ms %4.0f%%\n", "command latency (ms)",
+                (unsigned long long)lat_st.count, (double)lat_st.min / 16000.0,
+                (double)lat_st.sum / (double)lat_st.count / 16000.0, (double)lat_st.max / 16000.0, "", "2",
+                (double)lat_st.max / 16000.0 / 2.0 * 100.0);
 }
 
 static int needs_symbols(script_t *sc, const char *name, uint32_t *addr)
@@ -512,6 +643,10 @@ static int cmd_perf(script_t *sc, sim_t *s, char **tok, int n)
     }
     if (!strcmp(c, "latency") && n == 2) {
         print_latency();
+        return 0;
+    }
+    if (!strcmp(c, "table") && n == 2) {
+        print_table(s);
         return 0;
     }
     if (!strcmp(c, "report") && n == 2) {
@@ -591,24 +726,28 @@ static int cmd_perf(script_t *sc, sim_t *s, char **tok, int n)
         s->axis_sync = !strcmp(tok[2], "on");
         return 0;
     }
-    return script_err(sc, "usage: perf reset|irq|net|load|latency|report|track on|off|probe FUNC|"
+    return script_err(sc, "usage: perf reset|irq|net|load|latency|report|table|track on|off|probe FUNC|"
                           "host-load on|off|quiet on|off|ticks FILE|sample FILE AXIS|axis-sync on%s", "");
 }
 
 static int cmd_run_ticks(script_t *sc, sim_t *s, char **tok, int n)
 {
     long long k;
-    if (n != 2 || script_parse_num(tok[1], &k) || k < 0)
-        return script_err(sc, "usage: %s N", "run-ticks");
+    int off_sp = n == 3 && !strcmp(tok[2], "off-sp");
+    if ((n != 2 && !off_sp) || script_parse_num(tok[1], &k) || k < 0)
+        return script_err(sc, "usage: %s N [off-sp]", "run-ticks");
     install(s);
-    for (long long i = 0; i < k; i++) {
+    tick_poll(s);
+    uint64_t want = tick_no + (uint64_t)k;
+    /* off-sp: not where the next tick starts a profile period (the firmware's
+     * tick count at DPC_TICKS a multiple of PROFILE_DIVIDER): commands
+     * injected there would meet a main loop that may or may not have begun
+     * the profile generator's pass, depending on the CPU's speed. */
+    while (tick_no < want || (off_sp && dp_rd32(s, DPC_TICKS) % PROFILE_DIVIDER == 0)) {
         if (s->tmr.next == CYC_NEVER)
             return script_err(sc, "run-ticks: the timer is %s", "not running");
-        cyc_t target = s->tmr.next;
-        if (target > s->slice_base)
-            sim_run(s, target - s->slice_base);
-        else
-            sim_run(s, 1);
+        sim_run(s, s->tmr.next > s->slice_base ? s->tmr.next - s->slice_base : 1);
+        tick_poll(s);
     }
     return 0;
 }

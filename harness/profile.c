@@ -59,7 +59,8 @@ int profile_load_symbols(const char *path)
         nsyms++;
     }
     fclose(f);
-    qsort(syms, nsyms, sizeof *syms, by_addr);
+    if (nsyms)                  /* qsort(NULL, 0, ...) is undefined */
+        qsort(syms, nsyms, sizeof *syms, by_addr);
     return (int)nsyms;
 }
 

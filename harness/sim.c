@@ -128,25 +128,31 @@ void irq_print_table(sim_t *s, FILE *f)
     }
 }
 
-/* ---- the axis clock (differential test, sim.h "axis_sync") ------------------ */
+/* ---- the axis clock (differential test, sim.h "axis_sync") ------------------
+ * Logical time: the axis board and the plant advance one timer period at
+ * every tick (an expiry, not a restart of the timer) and AXIS_SYNC_STEP
+ * cycles at every access in between, whatever the CPU's real timing. */
+static cyc_t axis_period(sim_t *s)
+{
+    cyc_t p = US_TO_CYC(s->tmr.period_us);
+    p -= p % PLANT_STEP_CYC;
+    return p ? p : PLANT_STEP_CYC;
+}
+
 cyc_t sim_axis_peek(sim_t *s)
 {
     if (!s->axis_sync)
         return sim_now(s);
-    if (s->tmr.last != s->axis_tick_seen) {        /* a tick, or the timer (re)started */
+    if (s->tmr.last != s->axis_tick_seen) {
         s->axis_tick_seen = s->tmr.last;
-        cyc_t b = s->tmr.last - s->tmr.last % PLANT_STEP_CYC;
-        if (b > s->axis_base) {                    /* never backwards (after a reset) */
-            s->axis_base = b;
+        if (s->tmr.status & TMR_ST_EXPIRED) {      /* an expiry, not a (re)start */
+            s->axis_base += axis_period(s);
             s->axis_n = 0;
         }
     }
     cyc_t t = s->axis_base + (cyc_t)s->axis_n * AXIS_SYNC_STEP;
-    if (s->tmr.next != CYC_NEVER) {                /* stay before the next tick */
-        cyc_t lim = s->tmr.next - s->tmr.next % PLANT_STEP_CYC;
-        if (lim > s->axis_base && t >= lim)
-            t = lim - 1;
-    }
+    if (s->tmr.period_us && t >= s->axis_base + axis_period(s))
+        t = s->axis_base + axis_period(s) - 1;   /* stay before the next tick */
     return t;
 }
 

@@ -132,20 +132,22 @@ typedef struct sim {
     /* an ISR ended: its source, start, inclusive and exclusive cycles, and the
      * nesting depth left behind (0: it had interrupted the main loop) */
     void (*on_irq_leave)(struct sim *s, int src, cyc_t start, cyc_t dur, cyc_t excl, int depth);
-    /* after every bus write (CPU or native firmware; not the host's DPRAM writes) */
+    /* after every bus write (CPU or native firmware; not the host's DPRAM writes,
+     * not the 68000's SRAM writes, which take cpu_m68k.c's fast path) */
     void (*on_bus_write)(struct sim *s, uint32_t addr, uint32_t v, int size);
     /* at the start of every scheduler slice, after the peripheral events and
      * the host's poll (host_polled: the host looked at the queue just now) */
     void (*on_slice)(struct sim *s, cyc_t now, int host_polled);
-    /* Axis board on the tick grid (`perf axis-sync on`, the differential
-     * test): every access to the axis board is timed at the last timer tick
-     * (rounded down to the plant's 100 us grid) plus AXIS_SYNC_STEP cycles per
-     * access counted since that tick, so two CPUs that make the same accesses
-     * in a different time see the same plant.  sim_axis_now(). */
+    /* Axis board on logical time (`perf axis-sync on`, the differential
+     * test): the axis board and the plant advance one timer period at every
+     * tick and AXIS_SYNC_STEP cycles at every access in between, so two CPUs
+     * that make the same accesses in a different time see the same plant.
+     * sim_axis_now(); perf.c also holds the timer while the card works on
+     * host input.  Not for plant commands or resets while it runs. */
     int axis_sync;
-    cyc_t axis_base;               /* the tick the axis clock counts from */
-    cyc_t axis_tick_seen;          /* tmr.last when axis_base was taken */
-    uint32_t axis_n;               /* accesses since axis_base */
+    cyc_t axis_base;               /* logical time of the last tick */
+    cyc_t axis_tick_seen;          /* tmr.last when it was taken */
+    uint32_t axis_n;               /* accesses since */
     /* ---- end of measurement additions ---- */
 } sim_t;
 

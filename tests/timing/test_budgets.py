@@ -1,0 +1,158 @@
+"""Cycle budgets of issue 6 as tests (docs/performance.md).
+
+Everything is measured by the emulator on the EPROM images (build/mac4sim,
+`perf` commands, harness/perf.c): cycles from interrupt acknowledge to RTE,
+main-loop passes and probed functions through the 68000's program counter,
+command latency at the DPRAM queues.  Deterministic: the same image gives
+the same numbers on any machine.  The scenarios are in tools/perfscen.py.
+
+A budget the firmware does not meet fails here; do not loosen it - say in
+the issue what meeting it would cost.
+"""
+import os
+import sys
+
+import pytest
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "tools"))
+import perfscen as ps  # noqa: E402
+
+_cache = {}
+
+
+def scenario(name, card):
+    key = (name, card)
+    if key not in _cache:
+        text = {"moving": lambda: ps.moving(card), "idle": lambda: ps.idle(card), "creep": ps.creep}[name]()
+        _cache[key] = ps.run(card, text)
+    return _cache[key]
+
+
+@pytest.fixture(scope="module", autouse=True)
+def built():
+    for c in ("inc", "ssi", "stp"):
+        assert os.path.exists(os.path.join(ps.BUILD, "eprom", "mac4-%s.bin" % c)), "run make first"
+    assert os.path.exists(ps.SIM)
+
+
+# ---- the scenarios are what they claim ------------------------------------------------
+@pytest.mark.parametrize("card", ["inc", "ssi", "stp"])
+def test_four_axes_really_move_in_the_scenario(card):
+    r = scenario("moving", card)
+    assert not r["faults"], r["faults"][:3]
+    d = ps.moved(r)
+    assert all(x >= 500 for x in d), "%s: axes moved %s units in the measurement window" % (card, d)
+
+
+@pytest.mark.parametrize("card", ["inc", "ssi", "stp"])
+def test_the_window_saw_ticks_profiles_and_commands(card):
+    r = scenario("moving", card)
+    ticks = r["net"]["timer"]["count"]
+    assert ticks >= 1000 // (2.5 if card != "stp" else 8) - 1
+    assert r["period"][ps.PROFILE_PROBE]["count"] >= ticks // 4 - 1, "profile generator not seen every SP"
+    assert r["latency"]["count"] > 100 and r["latency"]["unmatched"] == 0
+    assert r["load"]["tracked"] == 1 and r["pass"]["idle"]["count"] + r["pass"]["cmd"]["count"] > 100
+
+
+# ---- INC/SSI ---------------------------------------------------------------------------
+@pytest.mark.parametrize("card", ["inc", "ssi"])
+def test_servo_tick_four_axes_moving(card):
+    """Worst timer interrupt, acknowledge to RTE, nested interrupts and any
+    profile-generator work inside it excluded: at most 4000 cycles (10% of 2.5 ms)."""
+    w = ps.worst(scenario("moving", card), "timer")
+    assert w is not None
+    assert w <= ps.BUDGET_SERVO_TICK, "%s servo tick worst %d cycles > %d" % (card, w, ps.BUDGET_SERVO_TICK)
+
+
+@pytest.mark.parametrize("card", ["inc", "ssi"])
+def test_profile_generator_per_10ms_four_axes(card):
+    """Cycles of card_profile_tick (and what it calls; interrupts excluded)
+    in each 10 ms profile period: at most 6000."""
+    w = ps.profile_per_period(scenario("moving", card))
+    assert w is not None, "profile generator (%s) never ran" % ps.PROFILE_PROBE
+    assert w <= ps.BUDGET_PROFILE_SERVO, "%s profile generator %d cycles per 10 ms > %d" % (
+        card, w, ps.BUDGET_PROFILE_SERVO)
+
+
+# ---- STP -------------------------------------------------------------------------------
+def test_stp_controller_tick():
+    w = ps.worst(scenario("moving", "stp"), "timer")
+    assert w is not None
+    assert w <= ps.BUDGET_STP_TICK, "STP controller tick worst %d cycles > %d (10%% of 8 ms)" % (
+        w, ps.BUDGET_STP_TICK)
+
+
+def test_stp_profile_tick():
+    w = ps.profile_per_period(scenario("moving", "stp"))
+    assert w is not None, "profile generator never ran"
+    assert w <= ps.BUDGET_STP_PROFILE, "STP profile generator %d cycles per 32 ms > %d (10%%)" % (
+        w, ps.BUDGET_STP_PROFILE)
+
+
+def test_stp_creep_pulse_interrupts_follow_1khz_on_four_axes():
+    """In the creep phase every step pulse is counted by a level-5 interrupt
+    (5.6).  A pulse must be served before the next one: the worst wait is a
+    timer tick that has just begun (level 6 preempts) plus the pulse
+    interrupts of all four axes, so tick + 4 x axis interrupt must fit one
+    period of the creep rate.  Required: 1 kHz (the start/stop frequency of
+    the default plant's stepper, above the manual's <lv> examples) on all
+    four axes at once."""
+    r = scenario("creep", "stp")
+    axis = r["net"]["axis"]
+    assert axis.get("count"), "no pulse-count interrupts in the creep phase (moved %s)" % ps.moved(r)
+    tick = ps.worst(r, "timer") or 0
+    need = tick + 4 * axis["max"]
+    allowed = ps.CPU_HZ / need
+    assert allowed >= ps.CREEP_RATE_HZ, (
+        "tick %d + 4 x pulse interrupt %d = %d cycles: follows %.0f Hz on four axes, %.0f Hz on one"
+        % (tick, axis["max"], need, allowed, ps.CPU_HZ / (tick + axis["max"])))
+
+
+# ---- the whole card --------------------------------------------------------------------
+def test_cpu_load_four_axes_moving_host_back_to_back():
+    """INC, four axes moving, the host keeping a command in flight: the
+    interrupts plus the main loop's work beyond its bare idle poll, at most 25%."""
+    load = ps.load_percent(scenario("moving", "inc"))
+    assert load is not None
+    assert load <= ps.BUDGET_LOAD_PERCENT, "CPU load %.1f%% > %.0f%%" % (load, ps.BUDGET_LOAD_PERCENT)
+
+
+@pytest.mark.parametrize("card", ["inc", "ssi", "stp"])
+def test_command_latency_four_axes_moving(card):
+    """Host enqueue to the response in the response queue, every command
+    of the window: at most 2 ms."""
+    lat = ps.latency_ms(scenario("moving", card))
+    assert lat is not None
+    assert lat <= ps.BUDGET_LATENCY_MS, "%s command latency %.2f ms > %.1f ms" % (card, lat, ps.BUDGET_LATENCY_MS)
+
+
+def test_command_latency_idle_card_is_measured():
+    """Reported beside the moving case (docs/performance.md); an idle card
+    must answer within the same 2 ms."""
+    lat = ps.latency_ms(scenario("idle", "inc"))
+    assert lat is not None and lat <= ps.BUDGET_LATENCY_MS, "idle card latency %s ms" % lat
+
+
+# ---- memory ----------------------------------------------------------------------------
+@pytest.mark.parametrize("card", ["inc", "ssi", "stp"])
+def test_image_fits_the_eprom(card):
+    used = ps.image_bytes(card)
+    assert used is not None and used + 4 <= ps.BUDGET_IMAGE_BYTES, "%s image %s bytes" % (card, used)
+
+
+@pytest.mark.parametrize("card", ["inc", "ssi", "stp"])
+def test_ram_plus_worst_case_stack(card):
+    st = ps.stack(card)
+    assert not st["notes"], "stack analysis incomplete: %s" % st["notes"]
+    assert st["ram_stack_bytes"] <= ps.BUDGET_RAM_STACK_BYTES, (
+        "%s: data+bss %d + stack %d = %d bytes > %d" % (card, st["ram_bytes"], st["stack_bytes"],
+                                                        st["ram_stack_bytes"], ps.BUDGET_RAM_STACK_BYTES))
+
+
+@pytest.mark.parametrize("card", ["inc", "ssi", "stp"])
+def test_measured_stack_within_the_static_bound(card):
+    """The deepest stack the emulator saw in the scenario stays within the
+    analysis (a check of the analysis, not of the firmware)."""
+    r = scenario("moving", card)
+    st = ps.stack(card)
+    assert r["stack"] is not None and 0 < r["stack"] <= st["stack_bytes"], (r["stack"], st["stack_bytes"])

@@ -1,0 +1,195 @@
+#!/usr/bin/env python3
+"""bench.py - `make bench` (docs/performance.md).
+
+1. Emulator speed: a fixed scenario - MAC4-INC, four axes in closed loop
+   moving back and forth without a pause, the host polling status back to
+   back - for a fixed emulated time, in emulated seconds per wall second;
+   in the same run the bare Musashi core (build/mac4bare: the same image, all
+   peripherals and plant stubbed to plain memory, the timer interrupt raised
+   every 2.5 ms), so the harness overhead is a ratio.
+2. The cycle budgets (the scenarios of tools/perfscen.py, as in make timing):
+   the cycle table per interrupt source with the budget each uses.
+3. Image, RAM and worst-case stack per card.
+4. A plot of a move: build/move-inc.png (setpoint, position, following
+   error, DAC word over time).
+All figures go to build/perf.json.  A benchmark, never a test: it fails only
+when something does not run.
+"""
+import json
+import os
+import platform
+import subprocess
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import perfscen as ps  # noqa: E402
+import pngplot  # noqa: E402
+
+SECONDS = float(os.environ.get("BENCH_SECONDS", "20"))
+REPEAT = int(os.environ.get("BENCH_REPEAT", "5"))
+BARE = os.path.join(ps.BUILD, "mac4bare")
+
+
+def bench_script(seconds):
+    lines = ["perf quiet off"] + ps.enable_lines("inc")      # measurement hooks from the start
+    v, acc, dec = ps.motion("inc")
+    for a in ps.AXES:
+        lines += ["send %d WPV %d" % (a, v), "send %d WPA %d" % (a, acc), "send %d WPD %d" % (a, dec)]
+    lines += ["perf quiet on", "perf host-load on"]
+    t, k = 1.0, 0
+    while t < seconds:
+        for a in ps.AXES:
+            far = (15000 + 2000 * a) * (1 if k % 2 == 0 else -1)
+            lines += ["send %d WAP %d" % (a, far), "send %d MP" % a, "send %d E" % a]
+        lines.append("run 2500")
+        t += 2.5
+        k += 1
+    lines += ["perf host-load off", "perf quiet off", "status", "perf latency"]
+    return "\n".join(lines) + "\n"
+
+
+def full_speed():
+    text = bench_script(SECONDS)
+
+    def once():
+        t0 = time.perf_counter()
+        p = subprocess.run([ps.SIM, "--card", "inc", "--script", "-"], input=text, capture_output=True, text=True)
+        wall = time.perf_counter() - t0
+        if p.returncode != 0:
+            raise SystemExit("bench: mac4sim failed: %s" % p.stderr[-2000:])
+        cyc = [int(x.split("=")[1]) for x in p.stdout.split() if x.startswith("cycles=")][-1]
+        return cyc / ps.CPU_HZ / wall, cyc, wall
+    return once()
+
+
+def bare_speed():
+    def once():
+        out = subprocess.run([BARE, os.path.join(ps.BUILD, "eprom", "mac4-inc.bin"), str(SECONDS)], check=True,
+                             capture_output=True, text=True).stdout
+        kv = dict(x.split("=") for x in out.split()[1:])
+        return float(kv["emulated_per_wall"]), int(kv["cycles"]), float(kv["wall_s"])
+    return once()
+
+
+def machine():
+    model = platform.processor() or "?"
+    try:
+        for line in open("/proc/cpuinfo"):
+            if line.startswith("model name"):
+                model = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return {"nproc": os.cpu_count(), "cpu": model, "python": platform.python_version(),
+            "system": platform.platform()}
+
+
+def plot_move(path_png):
+    csvp = os.path.join(ps.BUILD, "move-inc.csv")
+    lines = ps.enable_lines("inc")
+    lines += ["send 0 WPV 100", "send 0 WPA 10", "send 0 WPD 10", "send 0 WAP 8000", "send 0 MP",
+              "perf sample %s 0" % csvp, "send 0 E", "run 1300", "perf sample off"]
+    ps.run("inc", "\n".join(lines) + "\n")
+    pngplot.plot(csvp, path_png, "MAC4-INC AXIS 1 (EMULATED): WAP 8000 WPV 100 WPA 10 WPD 10, DEFAULT PLANT")
+
+
+def main():
+    for f in (ps.SIM, BARE):
+        if not os.path.exists(f):
+            raise SystemExit("bench: build %s first (make all build/mac4bare)" % f)
+    mach = machine()
+    print("== machine: %s, %d CPUs, %s" % (mach["cpu"], mach["nproc"], mach["system"]))
+
+    print("== emulator speed: %.0f s emulated, best of %d runs of each, interleaved" % (SECONDS, REPEAT))
+    fulls, bares = [], []
+    for _ in range(REPEAT):          # alternate, so both see the same machine load
+        fulls.append(full_speed())
+        bares.append(bare_speed())
+    full, fcyc, fwall = max(fulls)
+    bare, bcyc, bwall = max(bares)
+    print("  mac4sim  INC, 4 axes moving, host polling  %8.1f x real time  (%.0f Mcycles in %.2f s)"
+          % (full, fcyc / 1e6, fwall))
+    print("  mac4bare the same image, plain memory      %8.1f x real time  (%.0f Mcycles in %.2f s)"
+          % (bare, bcyc / 1e6, bwall))
+    print("  harness overhead %.2fx (aim < 2x); real time %.0fx (aim >= 50x)" % (bare / full, full))
+
+    print("== cycle budgets (emulated, deterministic)")
+    res = {}
+    for card in ("inc", "ssi", "stp"):
+        res[card] = ps.run(card, ps.moving(card))
+    res["idle"] = ps.run("inc", ps.idle("inc"))
+    res["creep"] = ps.run("stp", ps.creep())
+    for card in ("inc", "ssi", "stp"):
+        print("-- MAC4-%s, four axes positioning, host sending back to back (moved %s)"
+              % (card.upper(), ps.moved(res[card])))
+        out = res[card]["stdout"].splitlines()
+        i = next(k for k, l in enumerate(out) if l.startswith("cycles at"))
+        for l in out[i:]:
+            if not l.startswith("  ") and not l.startswith("cycles at"):
+                break
+            print("  " + l)
+    axis = res["creep"]["net"]["axis"]
+    tick = ps.worst(res["creep"], "timer") or 0
+    if axis.get("count"):
+        need = tick + 4 * axis["max"]
+        creep = "pulse interrupt worst %d cycles; with a tick of %d: %.0f Hz on four axes, %.0f Hz on one" % (
+            axis["max"], tick, ps.CPU_HZ / need, ps.CPU_HZ / (tick + axis["max"]))
+    else:
+        creep = "no pulse-count interrupts seen in the creep scenario (moved %s)" % ps.moved(res["creep"])
+    print("-- MAC4-STP creep phase: " + creep)
+    print("-- MAC4-INC idle card (axes enabled at rest), host back to back: latency max %.2f ms, mean %.2f ms"
+          % (ps.latency_ms(res["idle"]) or 0, res["idle"]["latency"].get("mean_us", 0) / 1000.0))
+
+    print("== memory")
+    images, stacks = {}, {}
+    for card in ("inc", "ssi", "stp"):
+        images[card] = ps.image_bytes(card)
+        stacks[card] = ps.stack(card)
+        st = stacks[card]
+        print("  MAC4-%s image %5d of 65536 bytes; RAM data+bss %d + stack %d (main %d, levels 4-7 %s) = %d of 16384"
+              % (card.upper(), images[card], st["ram_bytes"], st["stack_bytes"], st["main_bytes"],
+                 "/".join(str(v["bytes"]) for v in st["isr"].values()), st["ram_stack_bytes"]))
+
+    png = os.path.join(ps.BUILD, "move-inc.png")
+    plot_move(png)
+    print("== plot of a move: %s" % os.path.relpath(png, ps.ROOT))
+
+    inc = res["inc"]
+    perf = {
+        "servo_tick_worst_cycles": ps.worst(inc, "timer"),
+        "servo_tick_worst_cycles_ssi": ps.worst(res["ssi"], "timer"),
+        "profile_tick_worst_cycles": ps.profile_per_period(inc),
+        "profile_tick_worst_cycles_ssi": ps.profile_per_period(res["ssi"]),
+        "stp_tick_worst_cycles": ps.worst(res["stp"], "timer"),
+        "stp_profile_worst_cycles": ps.profile_per_period(res["stp"]),
+        "stp_pulse_irq_worst_cycles": axis.get("max") if axis.get("count") else None,
+        "cpu_load_percent": ps.load_percent(inc),
+        "cpu_load_breakdown_percent": {k: inc["load"].get(k) for k in ("isr", "main", "cmd", "profile")},
+        "command_latency_ms": ps.latency_ms(inc),
+        "command_latency_ms_per_card": {c: ps.latency_ms(res[c]) for c in ("inc", "ssi", "stp")},
+        "command_latency_idle_ms": ps.latency_ms(res["idle"]),
+        "emulated_per_wall": round(full, 2),
+        "bare_emulated_per_wall": round(bare, 2),
+        "harness_overhead_ratio": round(bare / full, 3),
+        "image_bytes": images,
+        "ram_stack_bytes": max(s["ram_stack_bytes"] for s in stacks.values()),
+        "ram_stack_bytes_per_card": {c: s["ram_stack_bytes"] for c, s in stacks.items()},
+        "stack_bytes_per_card": {c: s["stack_bytes"] for c, s in stacks.items()},
+        "moved_in_window": {c: ps.moved(res[c]) for c in ("inc", "ssi", "stp")},
+        "budgets": {"servo_tick_cycles": ps.BUDGET_SERVO_TICK, "profile_cycles_per_10ms": ps.BUDGET_PROFILE_SERVO,
+                    "stp_tick_cycles": ps.BUDGET_STP_TICK, "stp_profile_cycles_per_32ms": ps.BUDGET_STP_PROFILE,
+                    "cpu_load_percent": ps.BUDGET_LOAD_PERCENT, "command_latency_ms": ps.BUDGET_LATENCY_MS,
+                    "image_bytes": ps.BUDGET_IMAGE_BYTES, "ram_stack_bytes": ps.BUDGET_RAM_STACK_BYTES},
+        "bench_seconds": SECONDS,
+        "machine": mach,
+        "plot": os.path.relpath(png, ps.ROOT),
+    }
+    with open(os.path.join(ps.BUILD, "perf.json"), "w") as f:
+        json.dump(perf, f, indent=1, sort_keys=True)
+    print("== build/perf.json written")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

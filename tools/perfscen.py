@@ -1,0 +1,219 @@
+"""perfscen.py - the measurement scenarios of issue 6 (docs/performance.md),
+shared by the budget tests (tests/timing) and `make bench` (tools/bench.py).
+
+Every scenario is a host script for build/mac4sim.  "Four axes moving":
+INIT, ME, E on all four axes, then WPV/WPA/WPD within what the default plant
+can follow, WAP to a distant target, MP, E on each axis; once they are under
+way a measurement window opens (`perf reset`) with the main loop tracked,
+the profile generator probed and, for the load and latency figures, the host
+sending commands back to back (`perf host-load on`: one command in flight,
+the next sent at the host's first poll after the answer).  The positions the
+card publishes are read before and after the window, so a test can see that
+the axes really moved.
+"""
+import os
+import re
+import subprocess
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+BUILD = os.path.join(ROOT, "build")
+SIM = os.path.join(BUILD, "mac4sim")
+AXES = range(4)
+PROFILE_PROBE = "card_profile_tick"
+SSI_AT = 1000000              # SSI encoders start here: no move crosses their wrap at 0
+CPU_HZ = 16000000
+PERIOD = {"inc": 40000, "ssi": 40000, "stp": 128000}      # controller tick, cycles
+PROFILE_PERIOD = {"inc": 160000, "ssi": 160000, "stp": 512000}
+
+# budgets of issue 6
+BUDGET_SERVO_TICK = 4000                  # INC/SSI, cycles, 10% of 2.5 ms
+BUDGET_PROFILE_SERVO = 6000               # INC/SSI, cycles per 10 ms
+BUDGET_STP_TICK = PERIOD["stp"] // 10     # 10% of 8 ms
+BUDGET_STP_PROFILE = PROFILE_PERIOD["stp"] // 10   # 10% of 32 ms
+BUDGET_LOAD_PERCENT = 25.0
+BUDGET_LATENCY_MS = 2.0
+BUDGET_IMAGE_BYTES = 65536
+BUDGET_RAM_STACK_BYTES = 16384
+CREEP_RATE_HZ = 1000          # pulse rate the creep-phase interrupts must follow, all four axes at once
+
+
+def setup_lines(card):
+    if card == "ssi":
+        return ["plant %d pos %d" % (a, SSI_AT) for a in AXES]
+    return []
+
+
+def targets(card, far=True):
+    if card == "ssi":
+        base = SSI_AT
+        d = [40000, -40000, 30000, -30000] if far else [3000, -2500, 2000, -1500]
+        return [base + x for x in d]
+    if card == "stp":
+        return [20000, -20000, 15000, -15000] if far else [400, -300, 250, -350]
+    return [40000, -40000, 30000, -30000] if far else [3000, -2500, 4000, -1500]
+
+
+def motion(card):
+    """WPV, WPA, WPD the default plant follows: INC/SSI 100 increments per
+    10 ms (10 000/s, 8 V of 10), STP 2000 steps/s."""
+    return (2000, 500, 500) if card == "stp" else (100, 10, 10)
+
+
+def enable_lines(card):
+    out = ["wait-display 5 3000"]
+    if card == "ssi":
+        out += ["send %d UWSC 2" % a for a in AXES]      # 24 bits left-aligned in 26 (4.4.2.2)
+    for m in ("INIT", "ME", "E"):
+        out += ["send %d %s" % (a, m) for a in AXES]
+    out.append("run 20")
+    return out
+
+
+def move_lines(card, tg, extra=()):
+    v, acc, dec = motion(card)
+    out = []
+    for a, t in zip(AXES, tg):
+        out += ["send %d WPV %d" % (a, v), "send %d WPA %d" % (a, acc), "send %d WPD %d" % (a, dec)]
+        out += ["send %d %s" % (a, e) for e in extra]
+        out += ["send %d WAP %d" % (a, t), "send %d MP" % a]
+    out += ["send %d E" % a for a in AXES]
+    return out
+
+
+def positions_lines():
+    return ["peek32 0x%04X" % (0x3000 + 0x400 * a + 0x08) for a in AXES]
+
+
+def window_lines(ms, host_load, probes=(PROFILE_PROBE,), lead_ms=0):
+    out = ["run %d" % lead_ms] if lead_ms else []
+    out += positions_lines()
+    out += ["perf track on"] + ["perf probe %s" % p for p in probes]
+    out += ["perf quiet on", "perf reset"]
+    if host_load:
+        out.append("perf host-load on")
+    out += ["run %d" % ms, "perf host-load off", "perf quiet off", "perf report", "perf table"]
+    out += positions_lines()
+    return out
+
+
+def moving(card, ms=1000, host_load=True):
+    """Four axes positioning to distant targets, the window while they move."""
+    lines = setup_lines(card) + enable_lines(card) + move_lines(card, targets(card))
+    lines += window_lines(ms, host_load, lead_ms=200 if card != "stp" else 400)
+    return "\n".join(lines) + "\n"
+
+
+def idle(card, ms=1000):
+    """The card booted, axes enabled at standstill; the host sending back to back."""
+    lines = setup_lines(card) + enable_lines(card) + window_lines(ms, True)
+    return "\n".join(lines) + "\n"
+
+
+def creep(ms=1500):
+    """MAC4-STP: four short moves that end in the creep phase (<stc> steps at
+    <lv>, each pulse counted by an interrupt, 5.6)."""
+    lines = enable_lines("stp") + move_lines("stp", targets("stp", far=False), extra=("WSTC 20", "WLV 100"))
+    lines += window_lines(ms, False)
+    return "\n".join(lines) + "\n"
+
+
+KV = re.compile(r"(\w+)=(\S+)")
+
+
+def num(v):
+    try:
+        return int(v)
+    except ValueError:
+        try:
+            return float(v)
+        except ValueError:
+            return v
+
+
+def parse(text):
+    r = {"irq": {}, "net": {}, "probe": {}, "period": {}, "pass": {}, "load": {}, "latency": {}, "stack": None,
+         "peeks": [], "faults": [], "lines": text.splitlines()}
+    for line in r["lines"]:
+        parts = line.split()
+        if not parts:
+            continue
+        tag = parts[0]
+        kv = {k: num(v) for k, v in KV.findall(line)}
+        if tag == "perf-irq":
+            r["irq"][parts[1]] = kv
+        elif tag == "perf-net":
+            r["net"][parts[1]] = kv
+        elif tag == "perf-probe":
+            r["probe"][parts[1]] = kv
+        elif tag == "perf-probe-period":
+            r["period"][parts[1]] = kv
+        elif tag == "perf-pass":
+            r["pass"][parts[1]] = kv
+        elif tag == "perf-load":
+            r["load"] = kv
+        elif tag == "perf-latency":
+            r["latency"] = kv
+        elif tag == "perf-stack":
+            r["stack"] = kv.get("deepest_bytes")
+        elif tag == "peek32":
+            v = int(parts[2], 16)
+            r["peeks"].append(v - (1 << 32) if v & 0x80000000 else v)
+        elif tag == "fault":
+            r["faults"].append(line)
+    return r
+
+
+def run(card, script, binary=SIM, timeout=600):
+    p = subprocess.run([binary, "--card", card, "--script", "-", "--allow-faults"], input=script,
+                       capture_output=True, text=True, timeout=timeout)
+    if p.returncode != 0:
+        raise RuntimeError("mac4sim --card %s failed (%d): %s" % (card, p.returncode, p.stderr[-2000:]))
+    r = parse(p.stdout)
+    r["stdout"] = p.stdout
+    return r
+
+
+def moved(r):
+    """How far each axis went during the window (published positions)."""
+    p = r["peeks"]
+    if len(p) < 8:
+        return [0] * 4
+    return [abs(p[4 + a] - p[a]) for a in AXES]
+
+
+def worst(r, src):
+    """The worst occurrence of an interrupt source: exclusive of nested
+    interrupts and of the probes (the profile generator) inside it."""
+    return r["net"].get(src, {}).get("max", 0) if r["net"].get(src, {}).get("count") else None
+
+
+def profile_per_period(r, probe=PROFILE_PROBE):
+    w = r["period"].get(probe, {})
+    return w.get("max", 0) if w.get("count") else None
+
+
+def load_percent(r):
+    return r["load"].get("total")
+
+
+def latency_ms(r):
+    lat = r["latency"]
+    return lat["max_us"] / 1000.0 if lat.get("count") else None
+
+
+def image_bytes(card):
+    """Bytes of the 64 KiB EPROM the image uses (vectors, code, constants,
+    initial data) and its CRC, from the build's size report."""
+    used = None
+    for line in open(os.path.join(BUILD, "eprom", "mac4-%s.size.txt" % card)):
+        m = re.match(r"\s*used\s+(\d+) bytes", line)
+        if m:
+            used = int(m.group(1))
+    return used
+
+
+def stack(card):
+    import stackdepth
+    return stackdepth.analyse(os.path.join(BUILD, "eprom", "mac4-%s.elf" % card),
+                              os.path.join(BUILD, "fw-%s" % card),
+                              os.path.join(BUILD, "eprom", "mac4-%s.map" % card))
