@@ -43,7 +43,7 @@ HARNESS_HDRS := $(wildcard harness/*.h) hal/mac4_map.h firmware/commands.def
 
 IMAGES := $(foreach c,$(CARDS),$(B)/eprom/mac4-$(c).bin)
 
-.PHONY: all deps demo test unit system clean images docs
+.PHONY: all deps demo test unit system clean images docs native timing differential bench
 all: images $(B)/mac4sim $(B)/commands.json
 
 deps: $(MUS)/.stamp
@@ -100,6 +100,48 @@ $(B)/mac4sim: $(HARNESS_SRCS) $(HARNESS_HDRS) $(MUSOBJ)
 	$(HOSTCC) $(HOSTCFLAGS) -Iharness -Ihal -Ifirmware -I$(MUS) -DMUSASHI_CNF='"musashi_cnf.h"' \
 		$(HARNESS_SRCS) $(MUSOBJ) -lm -o $@
 
+# ---- the native builds: the firmware compiled for the host as the CPU -------
+# (harness/cpu_native.h).  Per card: the firmware, hal/native and the integer
+# runtime in one relocatable object with only the entry points global and its
+# static data in sections of its own (reset at every card reset), linked with
+# the emulator into build/mac4sim-native-CARD.  ASan and UBSan (as for the
+# unit tests) abort on undefined behaviour, so the differential test sees it.
+NATIVE_FW_SRCS := $(FW_SRCS) hal/native/hal_native.c hal/target/runtime.c
+NATIVE_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+NATIVE_FW_CFLAGS := -std=gnu11 -O1 -g $(HOSTWARN) $(NATIVE_SAN) -Ihal -Ifirmware -Iharness -Ihal/target -DHAL_NATIVE
+NATIVE_ENTRIES := fw_boot_stage1 fw_init fw_main_step fw_isr_tick fw_isr_axis fw_isr_uart fw_isr_estop \
+                  hal_native_stop_jmp hal_native_irq_mask hal_irq_save hal_irq_restore
+NATIVES := $(foreach c,$(CARDS),$(B)/mac4sim-native-$(c))
+define NATIVE_RULES
+$(B)/native-$(1)/fw_%.o: firmware/%.c $(FW_HDRS) $(HARNESS_HDRS)
+	@mkdir -p $$(@D)
+	@echo "  CC-NAT  $$@"; $$(HOSTCC) $$(NATIVE_FW_CFLAGS) -DMAC4_CARD=$(card_$(1)) -c $$< -o $$@
+$(B)/native-$(1)/hal_%.o: hal/native/%.c $(FW_HDRS) $(HARNESS_HDRS)
+	@mkdir -p $$(@D)
+	@echo "  CC-NAT  $$@"; $$(HOSTCC) $$(NATIVE_FW_CFLAGS) -DMAC4_CARD=$(card_$(1)) -c $$< -o $$@
+$(B)/native-$(1)/rt_%.o: hal/target/%.c $(FW_HDRS)
+	@mkdir -p $$(@D)
+	@echo "  CC-NAT  $$@"; $$(HOSTCC) $$(NATIVE_FW_CFLAGS) -DMAC4_CARD=$(card_$(1)) -c $$< -o $$@
+NATIVE_OBJS_$(1) := $(patsubst firmware/%.c,$(B)/native-$(1)/fw_%.o,$(FW_SRCS)) \
+                    $(B)/native-$(1)/hal_hal_native.o $(B)/native-$(1)/rt_runtime.o
+$(B)/native-$(1)/fw.o: $$(NATIVE_OBJS_$(1))
+	$$(HOSTCC) -r -nostdlib $$^ -o $$@.r
+	objcopy $(foreach e,$(NATIVE_ENTRIES),--keep-global-symbol=$(e)) \
+		--rename-section .data=mac4fw_data --rename-section .data.rel.local=mac4fw_datarel \
+		--rename-section .data.rel=mac4fw_datarel --rename-section .bss=mac4fw_bss $$@.r $$@
+	@rm -f $$@.r
+$(B)/mac4sim-native-$(1): $(HARNESS_SRCS) $(HARNESS_HDRS) harness/cpu_native.c $(B)/native-$(1)/fw.o $(MUSOBJ)
+	$$(HOSTCC) $$(HOSTCFLAGS) -Iharness -Ihal -Ifirmware -I$$(MUS) -DMUSASHI_CNF='"musashi_cnf.h"' \
+		-DHAL_NATIVE -DMAC4_CARD=$(card_$(1)) $(HARNESS_SRCS) harness/cpu_native.c $(B)/native-$(1)/fw.o \
+		$(MUSOBJ) $(NATIVE_SAN) -lm -o $$@
+endef
+$(foreach c,$(CARDS),$(eval $(call NATIVE_RULES,$(c))))
+native: $(NATIVES)
+
+# ---- make bench: the bare Musashi core beside the full emulator --------------
+$(B)/mac4bare: harness/m68k_bare.c hal/mac4_map.h $(MUSOBJ)
+	$(HOSTCC) $(HOSTCFLAGS) -Iharness -Ihal -I$(MUS) -DMUSASHI_CNF='"musashi_cnf.h"' $< $(MUSOBJ) -lm -o $@
+
 # ---- the command dictionary, from firmware/commands.def ---------------------
 $(B)/gen_commands: tools/gen_commands.c firmware/commands.def firmware/status.def firmware/status.h
 	@mkdir -p $(@D)
@@ -117,6 +159,17 @@ test: all unit system
 system: all
 	$(PYTHON) -m pytest -q tests/system
 
+# ---- issue 6: native/68000 agreement, cycle budgets, benchmark ---------------
+# (docs/performance.md; `test: differential timing` is the last line of this
+# file, so that a budget the firmware misses does not keep the other tests
+# from running)
+differential: all native
+	$(PYTHON) -m pytest -q tests/differential
+timing: all
+	$(PYTHON) -m pytest -q tests/timing
+bench: all $(B)/mac4bare
+	$(PYTHON) tools/bench.py
+
 demo: all
 	@tools/demo.sh
 
@@ -126,3 +179,22 @@ clean:
 # ---- hardening: fuzz corpus replay, 68000 check, cppcheck, qemu witness -----
 # (docs/hardening.md)
 include tests/fuzz/fuzz.mk
+include tests/witness/witness.mk
+
+CPPCHECK ?= cppcheck
+CPPCHECK_FLAGS := -q --enable=warning,style,performance,portability --std=c11 --error-exitcode=1 \
+                  --inline-suppr --suppressions-list=tools/cppcheck.supp -Ihal -Ifirmware
+.PHONY: hardening check68000 cppcheck
+hardening: fuzz-replay check68000 cppcheck witness
+test: hardening
+check68000: images
+	$(PYTHON) tools/check68000.py $(foreach c,$(CARDS),$(B)/eprom/mac4-$(c).elf)
+cppcheck: deps
+	@set -e; for c in $(foreach c,$(CARDS),$(card_$(c))); do \
+		echo "cppcheck firmware/ hal/target/ (MAC4_CARD=$$c)"; \
+		$(CPPCHECK) $(CPPCHECK_FLAGS) -DHAL_TARGET -DMAC4_CARD=$$c -Ihal/target firmware hal/target; done
+	@echo "cppcheck firmware/ hal/native/ (HAL_NATIVE)"
+	@$(CPPCHECK) $(CPPCHECK_FLAGS) -DHAL_NATIVE -DMAC4_CARD=0 -Iharness firmware hal/native
+
+# issue 6: native/68000 agreement and the cycle budgets last (docs/performance.md)
+test: differential timing

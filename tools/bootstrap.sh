@@ -16,13 +16,31 @@ have_cmd pkg-config || need+=(pkg-config)
 have_cmd python3 || need+=(python3)
 have_cmd cc || need+=(gcc)
 have_cmd make || need+=(make)
-if [ ${#need[@]} -gt 0 ]; then
-    echo "bootstrap: installing Debian packages: ${need[*]}"
+# hardening (docs/hardening.md): the qemu-m68k witness, cppcheck, and
+# libFuzzer with clang for `make fuzz` (llvm: llvm-cov for `make fuzz-cov`)
+have_cmd qemu-m68k || need+=(qemu-user)
+have_cmd cppcheck || need+=(cppcheck)
+have_cmd clang || need+=(clang)
+have_cmd llvm-cov || need+=(llvm)
+apt_updated=0
+apt_install() {
+    echo "bootstrap: installing Debian packages: $*"
     SUDO=""
     [ "$(id -u)" -ne 0 ] && SUDO="sudo"
     export DEBIAN_FRONTEND=noninteractive
-    $SUDO apt-get update -qq
-    $SUDO apt-get install -y -qq "${need[@]}"
+    [ $apt_updated -eq 1 ] || $SUDO apt-get update -qq
+    apt_updated=1
+    $SUDO apt-get install -y -qq "$@"
+}
+if [ ${#need[@]} -gt 0 ]; then
+    apt_install "${need[@]}"
+fi
+# libFuzzer's runtime comes in a package named after clang's major version
+if have_cmd clang; then
+    fuzzer_lib=$(clang --print-file-name="libclang_rt.fuzzer-$(uname -m).a")
+    if [ ! -f "$fuzzer_lib" ]; then
+        apt_install "libclang-rt-$(clang -dumpversion | cut -d. -f1)-dev"
+    fi
 fi
 
 # pytest drives the system tests

@@ -19,13 +19,37 @@
 #include "sim.h"
 
 int fz_boot_phase = 1;           /* 1 while the card boots: it creates the queues */
+/* fuzz_card.h's failure path (known bugs, the card's last events) */
+void (*fz_violation_hook)(const char *what, uint32_t addr, int size);
 
-void fz_violation(const char *what, uint32_t addr, int size) __attribute__((noreturn));
-void fz_violation(const char *what, uint32_t addr, int size)
+static void fz_violation(const char *what, uint32_t addr, int size) __attribute__((noreturn));
+static void fz_violation(const char *what, uint32_t addr, int size)
 {
+    if (fz_violation_hook)
+        fz_violation_hook(what, addr, size);
     fprintf(stderr, "\nPROPERTY VIOLATED: %s at $%06X (size %d)\n", what, (unsigned)addr, size);
     abort();
 }
+
+/* UBSan reports (the fuzz builds recover from them, -fsanitize-recover=
+ * undefined) come here first: fuzz_card.h decides whether it is a known bug
+ * (the input ends quietly) or not (abort: a crash for libFuzzer). */
+void (*fz_ubsan_hook)(const char *kind, const char *msg, const char *file, unsigned line);
+#ifndef FZ_NO_SAN                /* the coverage build (make fuzz-cov) has no sanitizers */
+void __ubsan_get_current_report_data(const char **kind, const char **msg, const char **file, unsigned *line,
+                                     unsigned *col, char **addr);
+void __ubsan_on_report(void);
+void __ubsan_on_report(void)
+{
+    const char *kind = "", *msg = "", *file = "";
+    unsigned line = 0, col = 0;
+    char *addr = NULL;
+    __ubsan_get_current_report_data(&kind, &msg, &file, &line, &col, &addr);
+    if (!fz_ubsan_hook)
+        abort();
+    fz_ubsan_hook(kind, msg, file ? file : "", line);
+}
+#endif
 
 static int card_owns(uint32_t a)
 {

@@ -22,18 +22,29 @@
  * At the end the host repairs the queues and the card answers VER.
  */
 #include "fuzz_card.h"
+#include "motion.h"
 
 #define PASS_CYC US_TO_CYC(250)
 #define MAX_PASSES 6000
 
 static int host_reads;
 static int queue_bad;              /* our model of cmd.c's "corrupt header seen" */
+static int held;                   /* our model of cmd.c's off-fly hold (5.15) */
+static fz_elem_t held_cmd;
 static unsigned passes;
 
-static void on_reset(void) { queue_bad = 0; }
+static void on_reset(void)
+{
+    queue_bad = 0;
+    held = 0;
+}
 
 static void check_response(const fz_elem_t *cmd, const fz_elem_t *rsp)
 {
+    if (getenv("FUZZ_TRACE"))
+        fprintf(stderr, "  %6u us: axis %u code %u param %d -> %u $%08X\n",
+                (unsigned)(S.slice_base / MAC4_CYCLES_PER_US), cmd->axis, cmd->code, (int)cmd->param, rsp->code,
+                (unsigned)rsp->param);
     FZ_CHECK(rsp->axis == cmd->axis, "response axis %u for a command to axis %u", rsp->axis, cmd->axis);
     FZ_CHECK(rsp->pad1 == 0 && rsp->pad2 == 0, "reserved response bytes not 0");
     FZ_CHECK(rsp->source == MSG_SRC_VME, "response source %u", rsp->source);
@@ -59,7 +70,7 @@ static void pass(void)
         cmd = fz_elem(DP_CMD_QUEUE, c_rear);
     uint32_t lost0 = fz_rd32(DPC_RSP_LOST), cmds0 = fz_rd32(DPC_COMMANDS);
     uint32_t qerr0 = fz_rd32(DPC_QUEUE_ERRORS);
-    int mr0 = cmd_mr_pending();
+    int mr0 = cmd_mr_pending(), held0 = held;
     unsigned resets0 = fz_resets;
 
     fz_pass(PASS_CYC);
@@ -67,39 +78,54 @@ static void pass(void)
     if (fz_resets != resets0)
         return;                    /* the watchdog reset the card: queues created anew */
     uint32_t c_rear1 = fz_rd32(DP_CMD_QUEUE + QH_REAR), r_front1 = fz_rd32(DP_RSP_QUEUE + QH_FRONT);
-    int taken = 0;
-    if (!cmd_ok || mr0) {
-        FZ_CHECK(c_rear1 == c_rear, "rear moved %u -> %u (header corrupt or MR pending)",
-                 (unsigned)c_rear, (unsigned)c_rear1);
-    } else if (c_front == c_rear) {
-        FZ_CHECK(c_rear1 == c_rear, "rear moved on an empty queue");
-    } else {
+    int waiting = cmd_ok && c_front != c_rear;
+    int taken = c_rear1 != c_rear;
+    if (!cmd_ok || mr0 || held0 || !waiting)
+        FZ_CHECK(!taken, "rear moved %u -> %u (header %s, MR %d, command held %d, queue %s)",
+                 (unsigned)c_rear, (unsigned)c_rear1, cmd_ok ? "sane" : "corrupt", mr0, held0,
+                 waiting ? "not empty" : "empty");
+    else
         FZ_CHECK(c_rear1 == q_next(c_rear, Q_NEL), "a command waits (front %u rear %u) but rear -> %u",
                  (unsigned)c_front, (unsigned)c_rear, (unsigned)c_rear1);
-        taken = 1;
-    }
     /* the corruption is counted once per episode */
-    if (!mr0) {
+    if (!mr0 && !held0) {
         uint32_t qerr1 = fz_rd32(DPC_QUEUE_ERRORS);
         uint32_t want = qerr0 + (!cmd_ok && !queue_bad ? 1u : 0u);
         FZ_CHECK(qerr1 == want, "DPC_QUEUE_ERRORS %u, expected %u", (unsigned)qerr1, (unsigned)want);
         queue_bad = !cmd_ok;
     }
+    /* at most one answer per pass: into the response queue, or counted lost */
     uint32_t lost = fz_rd32(DPC_RSP_LOST) - lost0;
     uint32_t done = fz_rd32(DPC_COMMANDS) - cmds0;
-    FZ_CHECK(done == (uint32_t)taken, "DPC_COMMANDS +%u for %d command(s) taken", (unsigned)done, taken);
-    if (!taken) {
-        FZ_CHECK(lost == 0, "a response lost without a command");
-        FZ_CHECK(r_front1 == r_front, "a response without a command");
-    } else if (rsp_ok && q_next(r_front, Q_NEL) != r_rear) {
-        FZ_CHECK(lost == 0, "response lost with room in the response queue");
-        FZ_CHECK(r_front1 == q_next(r_front, Q_NEL), "command taken, response front %u -> %u",
-                 (unsigned)r_front, (unsigned)r_front1);
-        fz_elem_t rsp = fz_elem(DP_RSP_QUEUE, r_front);
-        check_response(&cmd, &rsp);
+    int written = r_front1 != r_front;
+    int answered = written + (int)lost;
+    FZ_CHECK(answered <= 1 && done == (uint32_t)answered, "%d written, %u lost, DPC_COMMANDS +%u in one pass",
+             written, (unsigned)lost, (unsigned)done);
+    if (answered) {
+        if (rsp_ok && q_next(r_front, Q_NEL) != r_rear) {
+            FZ_CHECK(written && r_front1 == q_next(r_front, Q_NEL),
+                     "response lost or misplaced with room in the queue (front %u -> %u)", (unsigned)r_front,
+                     (unsigned)r_front1);
+        } else {
+            FZ_CHECK(lost == 1, "a response written into a full or corrupt queue");
+        }
+    }
+    if (held0) {
+        /* off-fly (5.15): the held command is answered when its axis' move
+         * ends, and nothing overtakes it */
+        if (answered)
+            held = 0;
+    } else if (taken && !answered) {
+        FZ_CHECK(cmd.axis < MAC4_NAXES && !(axes[cmd.axis].ustat & UB(ON_FLY)) && motion_busy(cmd.axis),
+                 "command %u to axis %u taken, neither answered nor held (off-fly)", cmd.code, cmd.axis);
+        held = 1;
+        held_cmd = cmd;
     } else {
-        FZ_CHECK(lost == 1, "response queue full or corrupt: DPC_RSP_LOST +%u, not +1", (unsigned)lost);
-        FZ_CHECK(r_front1 == r_front, "a response written into a full or corrupt queue");
+        FZ_CHECK(!answered || taken, "an answer without a command");
+    }
+    if (answered && written) {
+        fz_elem_t rsp = fz_elem(DP_RSP_QUEUE, r_front);
+        check_response(held0 ? &held_cmd : &cmd, &rsp);
     }
     if (host_reads) {
         fz_host_drain();
@@ -123,36 +149,6 @@ static void poke_header(fz_in_t *in, uint32_t q)
     fz_wr32(q + off, v);
 }
 
-/* At the end: the host repairs what it broke, and VER is answered. */
-static void final_ver(void)
-{
-    estop_set(&S, 0);
-    S.wdg.j11 = 1;
-    host_reads = 1;
-    for (int attempt = 0; attempt < 6; attempt++) {
-        fz_hdr_repair(DP_CMD_QUEUE);
-        fz_hdr_repair(DP_RSP_QUEUE);
-        FZ_CHECK(host_send(&S, 0, 7, 0, 0) == 1, "VER could not be queued after repair");
-        unsigned resets0 = fz_resets;
-        for (int i = 0; i < 2000 && fz_resets == resets0; i++) {
-            uint32_t f = fz_rd32(DP_RSP_QUEUE + QH_FRONT), r = fz_rd32(DP_RSP_QUEUE + QH_REAR);
-            if (f != r) {
-                fz_elem_t rsp = fz_elem(DP_RSP_QUEUE, r);
-                fz_host_drain();
-                FZ_CHECK(rsp.axis == 0, "VER answered for axis %u", rsp.axis);
-                if (rsp.code == 7) {
-                    FZ_CHECK(rsp.param == FW_VER_WORD, "VER answered $%08X", (unsigned)rsp.param);
-                    return;
-                }
-                FZ_CHECK(fz_is_error(rsp.code), "VER answered with code %u", rsp.code);
-                break;             /* an error waited to be reported: ask again */
-            }
-            fz_pass(PASS_CYC);
-        }
-    }
-    FZ_FAIL("the card no longer answers VER");
-}
-
 int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
     (void)argc;
@@ -169,6 +165,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     fz_power_on();
     host_reads = 1;
     queue_bad = 0;
+    held = 0;
     passes = 0;
     fz_in_t in = {data, size, 0};
     while (fz_more(&in) && passes < MAX_PASSES) {
@@ -216,7 +213,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         }
     }
-    final_ver();
+    fz_final_ver_vme(PASS_CYC);
     fz_check_card("the final VER");
+    if (getenv("FUZZ_TRACE"))
+        fprintf(stderr, "queue: %u passes, %u commands, %u responses lost, %u corrupt headers, resets %u\n",
+                passes, (unsigned)fz_rd32(DPC_COMMANDS), (unsigned)fz_rd32(DPC_RSP_LOST),
+                (unsigned)fz_rd32(DPC_QUEUE_ERRORS), fz_resets);
     return 0;
 }

@@ -30,7 +30,7 @@ static void on_abort(int sig)
     signal(sig, SIG_DFL);
     raise(sig);
 }
-#if defined(__has_include)
+#if defined(__has_include) && !defined(FZ_NO_SAN)
 #if __has_include(<sanitizer/common_interface_defs.h>)
 #include <sanitizer/common_interface_defs.h>
 #define HAVE_DEATH_CALLBACK 1
