@@ -22,6 +22,8 @@ uint32_t card_ostat;
 uint16_t card_err_report;
 uint32_t card_ticks;
 static volatile uint8_t estop_seen;   /* set by the level 7 handler */
+static uint32_t supervised;           /* card_ticks at the last card_supervise() */
+uint16_t card_supervise_late;         /* ticks the main loop did not supervise in time */
 
 #if MAC4_CARD == MAC4_CARD_STP
 #define TICK_US SERVO_PERIOD_US_STP
@@ -62,6 +64,7 @@ void vme_irq_service(void)
 }
 
 /* ---- axis state ---------------------------------------------------------- */
+static void axis_output(unsigned n, int32_t out);
 int axis_standstill(unsigned n)
 {
     uint8_t m = axes[n].mode;
@@ -85,6 +88,7 @@ void axis_set_mode(unsigned n, uint8_t mode)
 void axis_disable(unsigned n)
 {
     axis_set_mode(n, M_DISABLE);
+    axis_output(n, 0);           /* /EN open, 0 V or no pulses now, not at the next tick */
     axes[n].stop_then = STOP_NONE;
     axes[n].next_mode = NO_MODE;
 }
@@ -163,6 +167,8 @@ void card_reset(void)
     card_ticks = 0;
     card_profile_due = 0;
     card_profile_late = 0;
+    card_supervise_late = 0;
+    supervised = 0;
     estop_seen = 0;
     virq_head = virq_tail = 0;
     cmd_reset();
@@ -307,9 +313,43 @@ static void leds(void)
     hal_wr16(SYS_LEDS, l);
 }
 
+/* The tick does only what must happen at the sampling instant (7.4):
+ * measure, interpolate the setpoint, filter, drive the outputs.  Everything
+ * that looks at the result - switches, protective reactions, stop bits,
+ * status, the DPRAM data - is card_supervise() in the main loop, which
+ * runs before anything else there once per tick. */
 void fw_isr_tick(void)
 {
     hal_wr16(TMR_STATUS, TMR_ST_EXPIRED);
+    unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
+    measure_start();
+    if (phase == 0) {                             /* SP boundary: take the prepared segments */
+        for (unsigned n = 0; n < MAC4_NAXES; n++)
+            if (motion_segment(n))
+                card_profile_late++;
+        card_profile_due = 1;
+    }
+    for (unsigned n = 0; n < MAC4_NAXES; n++) {
+        measure_axis(n);
+        axis_output(n, motion_servo_tick(n, phase));
+    }
+    card_ticks++;
+}
+
+/* Main loop, once after every tick (fw_main_step calls it first).  Each
+ * axis with interrupts masked, so it sees one tick's results, never half of
+ * the next.  A reaction taken here acts within the servo period of the
+ * event: axis_disable() opens /EN at once, the ramps start with the next SP
+ * segment, which the profile generator has not prepared yet. */
+
+void card_supervise(void)
+{
+    uint32_t t = *(volatile uint32_t *)&card_ticks;
+    if (t == supervised)
+        return;
+    if (t - supervised > 1u)
+        card_supervise_late++;
+    supervised = t;
     uint16_t sys = hal_rd16(SYS_STATUS);
     card_ostat = (card_ostat & ~(uint32_t)(OB(FCODE0) | OB(FCODE1) | OB(FCODE2))) |
                  ((uint32_t)((sys >> SYS_ST_FC_SHIFT) & 7u) << OS_FCODE0);
@@ -318,29 +358,25 @@ void fw_isr_tick(void)
         for (unsigned n = 0; n < MAC4_NAXES; n++)
             axis_disable(n);
     }
-    measure_start();
     stop_bits();
     for (unsigned n = 0; n < MAC4_NAXES; n++) {
-        measure_axis(n);
+        unsigned prev = hal_irq_save();
         axis_inputs(n);
+        motion_supervise(n);
+        hal_irq_restore(prev);
     }
-    unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
-    if (phase == 0) {                             /* SP boundary: take the prepared segments */
-        for (unsigned n = 0; n < MAC4_NAXES; n++)
-            if (motion_segment(n))
-                card_profile_late++;
-        card_profile_due = 1;
-    }
-    for (unsigned n = 0; n < MAC4_NAXES; n++)
-        axis_output(n, motion_servo_tick(n, phase));
     /* One axis' DPRAM data per tick: each is fresh every profile period
      * (10 ms / 32 ms), at a quarter of the cost. */
+    unsigned phase = (t - 1u) & (PROFILE_DIVIDER - 1u);
+    unsigned prev = hal_irq_save();
     publish(phase);
-    card_ticks++;
+    hal_irq_restore(prev);
     if (phase == 0)
         leds();
-    hal_wr32(DPC_TICKS, card_ticks);
+    hal_wr32(DPC_TICKS, t);
     hal_wr32(DPC_OSTAT, card_ostat);
+    hal_wr32(DPC_PROFILE_LATE, card_profile_late);
+    hal_wr32(DPC_SUPERVISE_LATE, card_supervise_late);
     vme_irq_service();
 }
 
@@ -407,9 +443,13 @@ static void display_update(void)
 
 void fw_main_step(void)
 {
+    card_supervise();
     if (!cmd_mr_pending())
         hal_wr16(WDG_KICK, 0);
-    card_profile_tick();
+    if (card_profile_due) {
+        card_supervise();   /* the SP boundary's tick first, wherever the tick hit the pass */
+        card_profile_tick();
+    }
     cmd_poll();
     vme_irq_service();
     display_update();

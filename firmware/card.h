@@ -29,9 +29,11 @@ typedef struct {
     int64_t seg_start;  /* the SP segment the servo ticks interpolate (tick side) */
     int64_t seg_end;
     int64_t seg_step;
-    int64_t nx_start;   /* the next SP's segment, prepared by the main loop */
-    int64_t nx_end;
-    uint8_t nx_ready;
+    /* the next SP's segment, prepared by the main loop and split as the
+     * tick uses it: start, step per tick and end, integer + Q16 fraction */
+    int32_t nx_start_i, nx_st_i, nx_end_i;
+    uint16_t nx_start_f, nx_st_f, nx_end_f;
+    volatile uint8_t nx_ready;
     int64_t target;     /* positioning target */
     int32_t edge;       /* justification: position of the edge / index found */
     uint8_t phase;      /* phase of a justification mode */
@@ -78,6 +80,8 @@ void card_start(void);          /* timer, serial, interrupts */
 void card_profile_tick(void);   /* profile generator: the next SP's segments (main loop) */
 extern volatile uint8_t card_profile_due;   /* set by the tick at each SP boundary */
 extern uint16_t card_profile_late;          /* SP boundaries without a prepared segment */
+void card_supervise(void);      /* main loop, once after every tick: switches, reactions, DPRAM data */
+extern uint16_t card_supervise_late;        /* ticks supervised late (the main loop was held up) */
 
 /* Axis state changes used by commands and by the protective reactions. */
 void axis_set_mode(unsigned n, uint8_t mode);

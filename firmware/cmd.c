@@ -543,6 +543,7 @@ static void execute_and_respond(const mac4_msg_t *in)
 {
     mac4_msg_t out;
     unsigned prev = hal_irq_save();   /* the tick sees a command whole or not at all */
+    card_supervise();   /* a command always follows the supervision of the ticks before it */
     cmd_execute(in, &out);
     hal_irq_restore(prev);
     respond(&out);

@@ -82,8 +82,6 @@ void motion_hold(unsigned n)
     x->prof.pos = meas_q(n);
     x->prof.vel = 0;
     /* both sides of the segment hand-over start again from here */
-    x->seg_start = x->seg_end = x->nx_start = x->nx_end = x->prof.pos;
-    x->seg_step = 0;
     x->nx_ready = 0;
     x->sp_i = x->start_i = x->end_i = (int32_t)(x->prof.pos >> 16);
     x->sp_f = x->start_f = x->end_f = (uint16_t)x->prof.pos;
@@ -91,29 +89,35 @@ void motion_hold(unsigned n)
     x->st_f = 0;
 }
 
-/* Tick side, at each SP boundary: take the prepared segment, or hold. */
+/* A Q16 position as the tick's integer part and fraction. */
+static void split_q16(int64_t q, int32_t *i, uint16_t *f)
+{
+    *i = (int32_t)(q >> 16);
+    *f = (uint16_t)q;
+}
+
+/* Tick side, at each SP boundary: take the segment the main loop prepared
+ * (already split into 32-bit parts: no 64-bit arithmetic in the tick), or
+ * hold at the end of the last one. */
 int motion_segment(unsigned n)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
-    int late = 0;
     if (x->nx_ready) {
-        x->seg_start = x->nx_start;
-        x->seg_end = x->nx_end;
+        x->start_i = x->nx_start_i;
+        x->start_f = x->nx_start_f;
+        x->st_i = x->nx_st_i;
+        x->st_f = x->nx_st_f;
+        x->end_i = x->nx_end_i;
+        x->end_f = x->nx_end_f;
         x->nx_ready = 0;
-    } else {
-        late = x->mode != M_DISABLE && x->mode != M_TEST;
-        x->seg_start = x->seg_end;
+        return 0;
     }
-    x->seg_step = (x->seg_end - x->seg_start) >> 2;
-    /* split once here, so the ticks need only 32-bit arithmetic */
-    x->st_i = (int32_t)(x->seg_step >> 16);
-    x->st_f = (uint16_t)x->seg_step;
-    x->start_i = (int32_t)(x->seg_start >> 16);
-    x->start_f = (uint16_t)x->seg_start;
-    x->end_i = (int32_t)(x->seg_end >> 16);
-    x->end_f = (uint16_t)x->seg_end;
-    return late;
+    x->start_i = x->end_i;
+    x->start_f = x->end_f;
+    x->st_i = 0;
+    x->st_f = 0;
+    return x->mode != M_DISABLE && x->mode != M_TEST;
 }
 
 void motion_start(unsigned n, uint8_t mode, uint8_t from)
@@ -380,8 +384,9 @@ void motion_profile_tick(unsigned n)
 #endif
     /* the next SP's segment, for the tick to take at the boundary */
     if (x->mode != M_DISABLE && x->mode != M_TEST) {
-        x->nx_start = before;
-        x->nx_end = p->pos;
+        split_q16(before, &x->nx_start_i, &x->nx_start_f);
+        split_q16(p->pos, &x->nx_end_i, &x->nx_end_f);
+        split_q16((p->pos - before) >> 2, &x->nx_st_i, &x->nx_st_f);
         x->nx_ready = 1;
     }
 }
@@ -398,19 +403,6 @@ int16_t motion_servo_tick(unsigned n, unsigned phase)
     }
     if (x->mode == M_TEST)
         return (int16_t)PAR(n, DA);
-
-    /* the index latch, for the searches */
-    if (!x->idx_seen && (x->in & AX_IN_IDX) &&
-        (x->mode == M_SEARCH_IDX_C || x->mode == M_SEARCH_IDX || (x->mode == M_HOME && x->phase == 3))) {
-        uint32_t hi = hal_rd16(AX_REG(n, AX_IDX_HI));
-        uint32_t raw = (hi << 16) | hal_rd16(AX_REG(n, AX_IDX_LO));
-        int32_t d = (int32_t)((raw - x->counter) << 8) >> 8;   /* 24-bit counter */
-        x->edge = x->meas + d;
-#if MAC4_CARD == MAC4_CARD_STP
-        x->edge = stp_edge(n, d);                /* increments -> steps */
-#endif
-        x->idx_seen = 1;
-    }
 
     /* Setpoint: the SP segment in four steps, integer + Q16 fraction in 32
      * bits; the segment's start and end are taken exactly from the profile. */
@@ -435,6 +427,39 @@ int16_t motion_servo_tick(unsigned n, unsigned phase)
 #if MAC4_CARD == MAC4_CARD_STP
     stp_servo(x, n, phase, old_i, old_f);        /* step rate, creep phase, RFE (stepper.h) */
 #endif
+
+#if MAC4_CARD == MAC4_CARD_STP
+    return 0;   /* the step rate goes out in axis_output (stp_output) */
+#else
+    int16_t u = servo_step(&x->servo, &x->gains, x->ferr);
+    return (x->ustat & UB(REV_O)) ? (int16_t)(u == SERVO_OUT_MIN ? SERVO_OUT_MAX : -u) : u;
+#endif
+}
+
+/* ---- after every tick, in the main loop --------------------------------
+ * What the tick measured, checked before the main loop does anything else
+ * (card_supervise): the index latch of the searches and the protective
+ * reactions.  They act through the profile generator's ramps, whose next SP
+ * is still ahead, and through axis_disable(), which opens /EN at once: the
+ * reaction is within the servo period of the event, as in the tick. */
+void motion_supervise(unsigned n)
+{
+    axis_t *x = &axes[n];
+    PIN_PTR(x);
+    if (x->mode == M_DISABLE || x->mode == M_TEST)
+        return;
+    /* the index latch, for the searches */
+    if (!x->idx_seen && (x->in & AX_IN_IDX) &&
+        (x->mode == M_SEARCH_IDX_C || x->mode == M_SEARCH_IDX || (x->mode == M_HOME && x->phase == 3))) {
+        uint32_t hi = hal_rd16(AX_REG(n, AX_IDX_HI));
+        uint32_t raw = (hi << 16) | hal_rd16(AX_REG(n, AX_IDX_LO));
+        int32_t d = (int32_t)((raw - x->counter) << 8) >> 8;   /* 24-bit counter */
+        x->edge = x->meas + d;
+#if MAC4_CARD == MAC4_CARD_STP
+        x->edge = stp_edge(n, d);                /* increments -> steps */
+#endif
+        x->idx_seen = 1;
+    }
 
     /* protective reactions (4.8, 6.3) */
     if (!x->stop_then) {
@@ -461,12 +486,6 @@ int16_t motion_servo_tick(unsigned n, unsigned phase)
     if ((x->ustat & (UB(SWL_P) | UB(SWL_N))) && x->pos >= x->ln && x->pos <= x->lp)
         x->ustat &= ~(UB(SWL_P) | UB(SWL_N));
 
-#if MAC4_CARD == MAC4_CARD_STP
-    return 0;   /* the step rate goes out in axis_output (stp_output) */
-#else
-    int16_t u = servo_step(&x->servo, &x->gains, x->ferr);
-    return (x->ustat & UB(REV_O)) ? (int16_t)(u == SERVO_OUT_MIN ? SERVO_OUT_MAX : -u) : u;
-#endif
 }
 
 int motion_busy(unsigned n)

@@ -84,6 +84,8 @@
 #define DPC_SERIAL_CMD_LOST    (DP_CARD_DATA + 0x54) /* valid telegrams refused (NAK): command FIFO full */
 #define DPC_SERIAL_TX_OK       (DP_CARD_DATA + 0x58) /* response telegrams queued for sending */
 #define DPC_SERIAL_TX_LOST     (DP_CARD_DATA + 0x5C) /* responses or NAKs dropped: TX buffer full */
+#define DPC_PROFILE_LATE       (DP_CARD_DATA + 0x60) /* SP boundaries the profile generator missed */
+#define DPC_SUPERVISE_LATE     (DP_CARD_DATA + 0x64) /* ticks the main loop supervised late */
 #define DPC_OSTAT              (DP_CARD_DATA + 0x34) /* overall status (RAS) */
 #define DPC_VME_IRQ_LOST       (DP_CARD_DATA + 0x38) /* VMEbus interrupts dropped (FIFO full) */
 #define DPC_COMMANDS           (DP_CARD_DATA + 0x3C) /* commands executed since reset */
