@@ -23,7 +23,8 @@ TGT_ASM  := hal/target/crt0.S hal/target/vectors.S
 FW_HDRS  := $(wildcard firmware/*.h firmware/*.def hal/*.h hal/target/*.h) Makefile
 
 WARN     := -Wall -Wextra -Werror -Wconversion -Wshadow -Wstrict-prototypes -Wmissing-prototypes
-CFLAGS68 := -m68000 -ffreestanding -nostdlib -fno-pic -fno-builtin -std=c11 -Os \
+OPT68 ?= -Os
+CFLAGS68 := -m68000 -ffreestanding -nostdlib -fno-pic -fno-builtin -std=c11 $(OPT68) \
             -fstack-usage -ffunction-sections -mstrict-align -fno-store-merging -fno-expensive-optimizations $(WARN) -Ihal -Ihal/target -Ifirmware -DHAL_TARGET
 LDFLAGS68 := -m68000 -nostdlib -static -T linker/mac4.ld -Wl,--gc-sections -Wl,--build-id=none -Wl,--fatal-warnings
 
