@@ -83,6 +83,11 @@ void axis_set_mode(unsigned n, uint8_t mode)
         x->ustat &= ~UB(DR_EN);
     else
         x->ustat |= UB(DR_EN);
+#if MAC4_CARD != MAC4_CARD_STP
+    /* /EN follows the mode at once (the tick writes only the DAC) */
+    x->ctrl = (uint16_t)((x->ctrl & ~AX_CTRL_EN) | (mode != M_DISABLE ? AX_CTRL_EN : 0));
+    hal_wr16(AX_REG(n, AX_CTRL), x->ctrl);
+#endif
 }
 
 void axis_disable(unsigned n)
@@ -160,6 +165,7 @@ void card_reset(void)
         x->next_mode = NO_MODE;
         x->ustat = UB(ON_FLY);                    /* on-fly after switch-on (5.15) */
         axis_set_mode(n, M_DISABLE);
+        motion_hold(n);
     }
     hal_wr16(SYS_LEDS, 0x1111);                   /* LED D on for every axis */
     card_ostat = 0;
@@ -318,11 +324,79 @@ static void leds(void)
  * that looks at the result - switches, protective reactions, stop bits,
  * status, the DPRAM data - is card_supervise() in the main loop, which
  * runs before anything else there once per tick. */
+#if MAC4_CARD != MAC4_CARD_STP
+/* One axis of the INC/SSI tick.  Inlined four times with a constant n, so
+ * the registers are absolute addresses and the axis one address register;
+ * ph4 is the tick's phase in the SP times 4 (the row offset in bytes).
+ * /EN follows the mode in axis_set_mode(); here only the DAC. */
+static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned ph4)
+{
+    axis_t *x = &axes[n];
+    PIN_PTR(x);
+    if (x->ustat & UB(INIT)) {                    /* position reads 0 before INIT (4.9) */
+        if (x->mk == MK_COUNTER) {
+            /* internal 24-bit counter, relative (table 4.3): the common case */
+            uint32_t hi = hal_rd16(AX_REG(n, AX_CNT_HI));   /* latches LO */
+            uint32_t raw = (hi << 16) | hal_rd16(AX_REG(n, AX_CNT_LO));
+            int32_t d = (int32_t)((raw - x->counter) << 8) >> 8;
+            x->raw = x->counter = raw;
+            x->meas += d;
+            x->vel = d;
+            int32_t pos = x->pos + d;
+            if (!x->linear) {                     /* circular: 0 .. <cr>-1 (4.3.1.2) */
+                while (pos >= x->cr)
+                    pos -= x->cr;
+                while (pos < 0)
+                    pos += x->cr;
+            }
+            x->pos = pos;
+        } else {
+            measure_axis(n);                      /* SSI, external (measure.c) */
+        }
+    }
+    int16_t u = 0;
+    uint8_t mode = x->mode;
+    if (mode == M_DISABLE) {
+        x->setpoint = x->meas;
+        x->ferr = 0;
+    } else if (mode == M_TEST) {
+        u = (int16_t)PAR(n, DA);                  /* 5.13: straight to the DAC */
+    } else {
+        int32_t sp = *(const int32_t *)(const void *)((const uint8_t *)x->sp_now + ph4);
+        int32_t e = sp - x->meas;
+        x->setpoint = sp;
+        x->ferr = e;
+        u = servo_step(&x->servo, &x->gains, e);
+        if (x->ustat & UB(REV_O))                 /* USR (4.2) */
+            u = (int16_t)(u == SERVO_OUT_MIN ? SERVO_OUT_MAX : -u);
+    }
+    x->out = u;
+    hal_wr16(AX_REG(n, AX_DAC), (uint16_t)u);
+}
+
 void fw_isr_tick(void)
 {
     hal_wr16(TMR_STATUS, TMR_ST_EXPIRED);
     unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
     measure_start();
+    if (phase == 0) {                             /* SP boundary: take the prepared rows */
+        for (unsigned n = 0; n < MAC4_NAXES; n++)
+            if (motion_segment(n))
+                card_profile_late++;
+        card_profile_due = 1;
+    }
+    unsigned ph4 = phase * 4u;
+    tick_axis(0, ph4);
+    tick_axis(1, ph4);
+    tick_axis(2, ph4);
+    tick_axis(3, ph4);
+    card_ticks++;
+}
+#else
+void fw_isr_tick(void)
+{
+    hal_wr16(TMR_STATUS, TMR_ST_EXPIRED);
+    unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
     if (phase == 0) {                             /* SP boundary: take the prepared segments */
         for (unsigned n = 0; n < MAC4_NAXES; n++)
             if (motion_segment(n))
@@ -335,6 +409,7 @@ void fw_isr_tick(void)
     }
     card_ticks++;
 }
+#endif
 
 /* Main loop, once after every tick (fw_main_step calls it first).  Each
  * axis with interrupts masked, so it sees one tick's results, never half of

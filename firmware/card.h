@@ -34,6 +34,11 @@ typedef struct {
     int32_t nx_start_i, nx_st_i, nx_end_i;
     uint16_t nx_start_f, nx_st_f, nx_end_f;
     volatile uint8_t nx_ready;
+    /* INC/SSI: the setpoints of an SP, one per tick, rounded, as the main
+     * loop computes them from the segment: the row the tick uses and the
+     * next one (the tick swaps them at the SP boundary) */
+    int32_t sp_rows[2][PROFILE_DIVIDER];
+    int32_t *sp_now, *sp_next;
     int64_t target;     /* positioning target */
     int32_t edge;       /* justification: position of the edge / index found */
     uint8_t phase;      /* phase of a justification mode */

@@ -87,6 +87,13 @@ void motion_hold(unsigned n)
     x->sp_f = x->start_f = x->end_f = (uint16_t)x->prof.pos;
     x->st_i = 0;
     x->st_f = 0;
+#if MAC4_CARD != MAC4_CARD_STP
+    int32_t sp = x->sp_i + (x->sp_f >= 0x8000u);
+    x->sp_now = x->sp_rows[0];
+    x->sp_next = x->sp_rows[1];
+    for (unsigned k = 0; k < PROFILE_DIVIDER; k++)
+        x->sp_rows[0][k] = x->sp_rows[1][k] = sp;
+#endif
 }
 
 /* A Q16 position as the tick's integer part and fraction. */
@@ -96,13 +103,24 @@ static void split_q16(int64_t q, int32_t *i, uint16_t *f)
     *f = (uint16_t)q;
 }
 
-/* Tick side, at each SP boundary: take the segment the main loop prepared
- * (already split into 32-bit parts: no 64-bit arithmetic in the tick), or
- * hold at the end of the last one. */
+/* Tick side, at each SP boundary: take the segment the main loop prepared,
+ * or hold at the end of the last one.  INC/SSI: the row of four setpoints
+ * (a pointer swap); STP: the segment split into 32-bit parts, which the
+ * tick interpolates in Q16 for the step rate.  No 64-bit arithmetic here. */
 int motion_segment(unsigned n)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
+#if MAC4_CARD != MAC4_CARD_STP
+    int32_t *row = x->sp_now;
+    if (x->nx_ready) {
+        x->sp_now = x->sp_next;
+        x->sp_next = row;
+        x->nx_ready = 0;
+        return 0;
+    }
+    row[0] = row[1] = row[2] = row[PROFILE_DIVIDER - 1u];
+#else
     if (x->nx_ready) {
         x->start_i = x->nx_start_i;
         x->start_f = x->nx_start_f;
@@ -117,6 +135,7 @@ int motion_segment(unsigned n)
     x->start_f = x->end_f;
     x->st_i = 0;
     x->st_f = 0;
+#endif
     return x->mode != M_DISABLE && x->mode != M_TEST;
 }
 
@@ -387,11 +406,27 @@ void motion_profile_tick(unsigned n)
         split_q16(before, &x->nx_start_i, &x->nx_start_f);
         split_q16(p->pos, &x->nx_end_i, &x->nx_end_f);
         split_q16((p->pos - before) >> 2, &x->nx_st_i, &x->nx_st_f);
+#if MAC4_CARD != MAC4_CARD_STP
+        /* the four ticks' setpoints: start + k step, the last exactly the end */
+        int32_t *row = x->sp_next;
+        int32_t i = x->nx_start_i;
+        uint16_t f = x->nx_start_f;
+        for (unsigned k = 0; k < PROFILE_DIVIDER - 1u; k++) {
+            uint32_t f32 = (uint32_t)f + x->nx_st_f;
+            i += x->nx_st_i + (int32_t)(f32 >> 16);
+            f = (uint16_t)f32;
+            row[k] = i + (f >= 0x8000u);
+        }
+        row[PROFILE_DIVIDER - 1u] = x->nx_end_i + (x->nx_end_f >= 0x8000u);
+#endif
         x->nx_ready = 1;
     }
 }
 
-/* ---- every servo tick ---------------------------------------------------- */
+/* ---- every servo tick ----------------------------------------------------
+ * INC/SSI: the tick's setpoint, filter and output are in card.c (tick_axis),
+ * four times inlined.  STP: here, with the step-rate stage of stepper.c. */
+#if MAC4_CARD == MAC4_CARD_STP
 int16_t motion_servo_tick(unsigned n, unsigned phase)
 {
     axis_t *x = &axes[n];
@@ -406,10 +441,8 @@ int16_t motion_servo_tick(unsigned n, unsigned phase)
 
     /* Setpoint: the SP segment in four steps, integer + Q16 fraction in 32
      * bits; the segment's start and end are taken exactly from the profile. */
-#if MAC4_CARD == MAC4_CARD_STP
     int32_t old_i = x->sp_i;
     uint16_t old_f = x->sp_f;
-#endif
     if (phase == 3) {
         x->sp_i = x->end_i;
         x->sp_f = x->end_f;
@@ -424,17 +457,10 @@ int16_t motion_servo_tick(unsigned n, unsigned phase)
     }
     x->setpoint = x->sp_i + (x->sp_f >= 0x8000u);
     x->ferr = x->setpoint - x->meas;
-#if MAC4_CARD == MAC4_CARD_STP
     stp_servo(x, n, phase, old_i, old_f);        /* step rate, creep phase, RFE (stepper.h) */
-#endif
-
-#if MAC4_CARD == MAC4_CARD_STP
     return 0;   /* the step rate goes out in axis_output (stp_output) */
-#else
-    int16_t u = servo_step(&x->servo, &x->gains, x->ferr);
-    return (x->ustat & UB(REV_O)) ? (int16_t)(u == SERVO_OUT_MIN ? SERVO_OUT_MAX : -u) : u;
-#endif
 }
+#endif
 
 /* ---- after every tick, in the main loop --------------------------------
  * What the tick measured, checked before the main loop does anything else

@@ -1,7 +1,7 @@
 #include "servo.h"
 #include "mul16.h"
 
-#define U1_MAX ((1l << 23) - 1)
+#define U1_MAX SERVO_U1_MAX
 
 static inline int32_t muls(int16_t a, int16_t b) { return muls16(a, b); }
 
@@ -35,6 +35,7 @@ void servo_set_gains(servo_gains_t *g, int32_t ga, int32_t ze, int32_t po, int32
      * done here, once per E, never in the tick) */
     int32_t lim = ga > 0 ? (int32_t)((uint32_t)(1ul << 18) / (uint32_t)ga) : 32767;
     g->e_lim = (int16_t)(lim > 32767 ? 32767 : lim < 1 ? 1 : lim);
+    g->full = ze != 0 || po != 0 || ki != 0;
 }
 
 void servo_reset(servo_state_t *s)
@@ -45,7 +46,7 @@ void servo_reset(servo_state_t *s)
     s->e_prev = 0;
 }
 
-int16_t servo_step(servo_state_t *s, const servo_gains_t *g, int32_t e32)
+int16_t servo_step_full(servo_state_t *s, const servo_gains_t *g, int32_t e32)
 {
     int16_t e = (int16_t)(e32 > g->e_lim ? g->e_lim : e32 < -g->e_lim ? -g->e_lim : e32);
     int16_t ep = s->e_prev;

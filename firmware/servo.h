@@ -24,6 +24,7 @@ typedef struct {
     int16_t ga, ze, po, ki;
     uint8_t kisc;
     int16_t e_lim;          /* derived: |e| limit so that K*|e| <= 2^16 LSB */
+    uint8_t full;           /* derived: <ze>, <po> or <ki> set (servo_step_full) */
 } servo_gains_t;
 
 typedef struct {
@@ -38,6 +39,36 @@ typedef struct {
 
 void servo_set_gains(servo_gains_t *g, int32_t ga, int32_t ze, int32_t po, int32_t ki, int32_t kisc);
 void servo_reset(servo_state_t *s);
-int16_t servo_step(servo_state_t *s, const servo_gains_t *g, int32_t e);
+/* The general filter, every term (servo.c). */
+int16_t servo_step_full(servo_state_t *s, const servo_gains_t *g, int32_t e);
+
+#define SERVO_U1_MAX ((1l << 23) - 1)
+
+/* One sampling period: the DAC word for following error e.  Inline, for the
+ * tick: with <ze> = <po> = <ki> = 0 (the defaults and the manual's examples
+ * but one) the filter is K e plus the frozen integrator, one MULS.W; the
+ * result is bit for bit what servo_step_full() gives for those gains. */
+#include "mul16.h"
+static inline __attribute__((always_inline)) int16_t servo_step(servo_state_t *s, const servo_gains_t *g,
+                                                                int32_t e32)
+{
+    if (g->full)
+        return servo_step_full(s, g, e32);
+    int32_t lim = g->e_lim;
+    int16_t e = (int16_t)(e32 > lim ? lim : e32 < -lim ? -lim : e32);
+    int32_t u1 = muls16(g->ga, e) * 64;
+    if (u1 > SERVO_U1_MAX)
+        u1 = SERVO_U1_MAX;
+    else if (u1 < -SERVO_U1_MAX)
+        u1 = -SERVO_U1_MAX;
+    s->u1 = u1;
+    s->e_prev = e;
+    int32_t u = (u1 + s->u2 + 128) >> 8;        /* u2 is kept within the DAC range */
+    if (u > SERVO_OUT_MAX)
+        u = SERVO_OUT_MAX;
+    else if (u < SERVO_OUT_MIN)
+        u = SERVO_OUT_MIN;
+    return (int16_t)u;
+}
 
 #endif
