@@ -335,11 +335,12 @@ static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned
     PIN_PTR(x);
     if (x->ustat & UB(INIT)) {                    /* position reads 0 before INIT (4.9) */
         if (x->mk == MK_COUNTER) {
-            /* internal 24-bit counter, relative (table 4.3): the common case */
-            uint32_t hi = hal_rd16(AX_REG(n, AX_CNT_HI));   /* latches LO */
-            uint32_t raw = (hi << 16) | hal_rd16(AX_REG(n, AX_CNT_LO));
-            int32_t d = (int32_t)((raw - x->counter) << 8) >> 8;
-            x->raw = x->counter = raw;
+            /* internal 24-bit counter, relative (table 4.3): the common
+             * case.  One word: its difference is the period's motion
+             * (docs/memory-map.md, AX_CNT_LIVE); the 24 bits are ours */
+            uint32_t c = x->counter;
+            int32_t d = (int16_t)(uint16_t)(hal_rd16(AX_REG(n, AX_CNT_LIVE)) - (uint16_t)c);
+            x->counter = (c + (uint32_t)d) & 0xFFFFFFu;   /* RCT, RED: card_supervise */
             x->meas += d;
             x->vel = d;
             int32_t pos = x->pos + d;
@@ -374,15 +375,32 @@ static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned
     hal_wr16(AX_REG(n, AX_DAC), (uint16_t)u);
 }
 
+/* motion_segment() for INC/SSI, inlined with a constant n: 1 if late */
+static inline __attribute__((always_inline)) unsigned take_row(unsigned n)
+{
+    axis_t *x = &axes[n];
+    PIN_PTR(x);
+    int32_t *row = x->sp_now;
+    if (x->nx_ready) {
+        x->sp_now = x->sp_next;
+        x->sp_next = row;
+        x->nx_ready = 0;
+        return 0;
+    }
+    row[0] = row[1] = row[2] = row[PROFILE_DIVIDER - 1u];
+    return x->mode != M_DISABLE && x->mode != M_TEST;
+}
+
 void fw_isr_tick(void)
 {
     hal_wr16(TMR_STATUS, TMR_ST_EXPIRED);
     unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
+#if MAC4_CARD == MAC4_CARD_SSI
     measure_start();
+#endif
     if (phase == 0) {                             /* SP boundary: take the prepared rows */
-        for (unsigned n = 0; n < MAC4_NAXES; n++)
-            if (motion_segment(n))
-                card_profile_late++;
+        card_profile_late = (uint16_t)(card_profile_late + take_row(0) + take_row(1) + take_row(2) +
+                                       take_row(3));
         card_profile_due = 1;
     }
     unsigned ph4 = phase * 4u;
@@ -436,6 +454,8 @@ void card_supervise(void)
     stop_bits();
     for (unsigned n = 0; n < MAC4_NAXES; n++) {
         unsigned prev = hal_irq_save();
+        if (axes[n].mk == MK_COUNTER)
+            axes[n].raw = axes[n].counter;        /* RED: the tick keeps only the counter */
         axis_inputs(n);
         motion_supervise(n);
         hal_irq_restore(prev);

@@ -103,24 +103,15 @@ static void split_q16(int64_t q, int32_t *i, uint16_t *f)
     *f = (uint16_t)q;
 }
 
-/* Tick side, at each SP boundary: take the segment the main loop prepared,
- * or hold at the end of the last one.  INC/SSI: the row of four setpoints
- * (a pointer swap); STP: the segment split into 32-bit parts, which the
- * tick interpolates in Q16 for the step rate.  No 64-bit arithmetic here. */
+/* Tick side, at each SP boundary (STP; INC/SSI swap setpoint rows in
+ * card.c, take_row): take the segment the main loop prepared, split into
+ * 32-bit parts, which the tick interpolates in Q16 for the step rate, or
+ * hold at the end of the last one.  No 64-bit arithmetic here. */
+#if MAC4_CARD == MAC4_CARD_STP
 int motion_segment(unsigned n)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
-#if MAC4_CARD != MAC4_CARD_STP
-    int32_t *row = x->sp_now;
-    if (x->nx_ready) {
-        x->sp_now = x->sp_next;
-        x->sp_next = row;
-        x->nx_ready = 0;
-        return 0;
-    }
-    row[0] = row[1] = row[2] = row[PROFILE_DIVIDER - 1u];
-#else
     if (x->nx_ready) {
         x->start_i = x->nx_start_i;
         x->start_f = x->nx_start_f;
@@ -135,9 +126,9 @@ int motion_segment(unsigned n)
     x->start_f = x->end_f;
     x->st_i = 0;
     x->st_f = 0;
-#endif
     return x->mode != M_DISABLE && x->mode != M_TEST;
 }
+#endif
 
 void motion_start(unsigned n, uint8_t mode, uint8_t from)
 {

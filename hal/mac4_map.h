@@ -236,6 +236,8 @@
 #define AX_PULSES              0x14  /* RW: STP pulse down-counter: W n>0 emit exactly n more
                                       * pulses then stop (AX_IN_PDONE), W 0 free running;
                                       * R pulses still to come */
+#define AX_CNT_LIVE            0x16  /* R: counter bits 0-15, live (no latch): the tick's
+                                      * 16-bit delta per servo period */
 #define AXIS_IRQ_PENDING       (AXIS_BASE + 0x800) /* R: bit n index, bit 4+n pulse,
                                                     * bit 8+n pulse count done */
 #define AXIS_IRQ_IDX(n)        (1u << (n))

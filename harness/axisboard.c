@@ -24,6 +24,7 @@ uint32_t axis_rd(sim_t *s, uint32_t off, int size)
         return (c >> 16) & 0xFF;
     }
     case AX_CNT_LO: return a->cnt_lo_latch;
+    case AX_CNT_LIVE: return plant_counter(s, n, now) & 0xFFFF;
     case AX_IDX_HI:
         plant_sync(s, n, now);
         a->idx_lo_latch = (uint16_t)a->idx_latch;
