@@ -57,17 +57,14 @@ static inline __attribute__((always_inline)) int16_t servo_step(servo_state_t *s
     int32_t lim = g->e_lim;
     int16_t e = (int16_t)(e32 > lim ? lim : e32 < -lim ? -lim : e32);
     int32_t u1 = muls16(g->ga, e) * 64;
-    if (u1 > SERVO_U1_MAX)
-        u1 = SERVO_U1_MAX;
-    else if (u1 < -SERVO_U1_MAX)
-        u1 = -SERVO_U1_MAX;
+    /* the limits below with one unsigned compare on the common path */
+    if ((uint32_t)(u1 + SERVO_U1_MAX) > 2u * SERVO_U1_MAX)
+        u1 = u1 < 0 ? -SERVO_U1_MAX : SERVO_U1_MAX;
     s->u1 = u1;
     s->e_prev = e;
     int32_t u = (u1 + s->u2 + 128) >> 8;        /* u2 is kept within the DAC range */
-    if (u > SERVO_OUT_MAX)
-        u = SERVO_OUT_MAX;
-    else if (u < SERVO_OUT_MIN)
-        u = SERVO_OUT_MIN;
+    if ((uint32_t)(u - SERVO_OUT_MIN) > (uint32_t)(SERVO_OUT_MAX - SERVO_OUT_MIN))
+        u = u < 0 ? SERVO_OUT_MIN : SERVO_OUT_MAX;
     return (int16_t)u;
 }
 
