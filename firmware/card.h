@@ -47,6 +47,12 @@ typedef struct {
     uint8_t idx_seen;   /* index latched during a search */
     uint16_t trt_count;
     uint16_t trt_periods;
+    /* the profile generator's Q16 velocities per SP of the common modes
+     * (vq() of <pv>, <pa>, <pd>, <ed>), recomputed only when par_a or TURBO
+     * changed; q_free: prof_free_distance(<pv>, <pd>) */
+    int64_t q_pv, q_pa, q_pd, q_ed, q_free;
+    uint16_t q_gen;
+    uint8_t q_turbo;
     /* position controller (servo.c) */
     servo_gains_t gains;
     servo_state_t servo;

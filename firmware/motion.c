@@ -36,6 +36,22 @@ static int64_t vq(unsigned n, int32_t v)
 #endif
 }
 
+/* The cached vq() values (axis_t q_*), fresh for this SP. */
+static void vq_refresh(unsigned n)
+{
+    axis_t *x = &axes[n];
+    uint8_t turbo = (x->sstat & SB(TURBO)) != 0;
+    if (x->q_gen == par_gen && x->q_turbo == turbo)
+        return;
+    x->q_pv = vq(n, PAR(n, PV));
+    x->q_pa = vq(n, PAR(n, PA));
+    x->q_pd = vq(n, PAR(n, PD));
+    x->q_ed = vq(n, PAR(n, ED));
+    x->q_free = prof_free_distance(x->q_pv, x->q_pd);
+    x->q_gen = par_gen;
+    x->q_turbo = turbo;
+}
+
 static int64_t meas_q(unsigned n) { return Q16(axes[n].meas); }
 
 #if MAC4_CARD == MAC4_CARD_STP
@@ -218,8 +234,9 @@ void motion_profile_tick(unsigned n)
         motion_hold(n);
         return;
     }
+    vq_refresh(n);
     if (x->stop_then) {                          /* protective stop: ramp <ed> */
-        int64_t ed = vq(n, PAR(n, ED));
+        int64_t ed = x->q_ed;
         if (prof_ramp(p, 0, ed, ed)) {
             if (x->stop_then == STOP_HOLD) {
                 axis_set_mode(n, M_BRAKE);
@@ -235,14 +252,14 @@ void motion_profile_tick(unsigned n)
         switch (x->mode) {
         case M_ENABLE:                           /* hold; UE from a move: stop with <pd> */
         case M_BRAKE:
-            x->done = (uint8_t)prof_ramp(p, 0, vq(n, PAR(n, PD)), vq(n, PAR(n, PD)));
+            x->done = (uint8_t)prof_ramp(p, 0, x->q_pd, x->q_pd);
             break;
         case M_RESET:                            /* 4.8.2: emergency ramp, then disable */
-            if (prof_ramp(p, 0, vq(n, PAR(n, ED)), vq(n, PAR(n, ED))))
+            if (prof_ramp(p, 0, x->q_ed, x->q_ed))
                 axis_disable(n);
             break;
         case M_SPEED:                            /* <vt> with the ramps <pa>/<pd> */
-            prof_ramp(p, vq(n, PAR(n, VT)), vq(n, PAR(n, PA)), vq(n, PAR(n, PD)));
+            prof_ramp(p, vq(n, PAR(n, VT)), x->q_pa, x->q_pd);
             break;
         case M_VEL_TRACK:                        /* 5.11: acceleration not limited */
 #if MAC4_CARD == MAC4_CARD_STP
@@ -262,12 +279,10 @@ void motion_profile_tick(unsigned n)
         case M_POSITIONING:
 #if MAC4_CARD == MAC4_CARD_STP
             /* ramps to <stc> steps before the target, then the creep phase (diagram 5.2) */
-            if (!x->done && stp_positioning(n, vq(n, PAR(n, PV)), vq(n, PAR(n, PA)), vq(n, PAR(n, PD)),
-                                            stp_ssf_now))
+            if (!x->done && stp_positioning(n, x->q_pv, x->q_pa, x->q_pd, stp_ssf_now))
                 x->done = 1;
 #else
-            if (!x->done && prof_position(p, x->target, vq(n, PAR(n, PV)), vq(n, PAR(n, PA)),
-                                          vq(n, PAR(n, PD)))) {
+            if (!x->done && prof_position_free(p, x->target, x->q_pv, x->q_pa, x->q_pd, x->q_free)) {
                 x->done = 1;
             }
 #endif

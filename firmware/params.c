@@ -8,6 +8,7 @@ const pdesc_t pdesc[NPARAMS] = {
 
 int32_t par_w[NPARAMS][MAC4_NAXES];
 int32_t par_a[NPARAMS][MAC4_NAXES];
+uint16_t par_gen;
 
 static unsigned slot(unsigned axis, unsigned p) { return (pdesc[p].flags & PF_CARD) ? 0 : axis; }
 int32_t par(unsigned axis, unsigned p) { return par_a[p][slot(axis, p)]; }
@@ -18,6 +19,7 @@ void params_reset(void)
     for (unsigned p = 0; p < NPARAMS; p++)
         for (unsigned a = 0; a < MAC4_NAXES; a++)
             par_w[p][a] = par_a[p][a] = pdesc[p].def;
+    par_gen++;
 }
 
 int params_write(unsigned axis, unsigned p, int32_t v)
@@ -26,8 +28,10 @@ int params_write(unsigned axis, unsigned p, int32_t v)
         return ERR_LIMIT;
     unsigned a = slot(axis, p);
     par_w[p][a] = v;
-    if (pdesc[p].flags & PF_IMM)
+    if (pdesc[p].flags & PF_IMM) {
         par_a[p][a] = v;
+        par_gen++;
+    }
     return 0;
 }
 
@@ -36,4 +40,5 @@ void params_activate(unsigned axis, uint8_t kind)
     for (unsigned p = 0; p < NPARAMS; p++)
         if (pdesc[p].kind == kind && !(pdesc[p].flags & PF_CARD))
             par_a[p][axis] = par_w[p][axis];
+    par_gen++;
 }

@@ -37,6 +37,9 @@ extern const pdesc_t pdesc[NPARAMS];
 /* Parameter-major, so that axis n of parameter p is p*16 + n*4 bytes in. */
 extern int32_t par_w[NPARAMS][MAC4_NAXES];
 extern int32_t par_a[NPARAMS][MAC4_NAXES];
+/* Counts the changes of par_a, so that values derived from it can be cached
+ * (the profile generator's Q16 velocities, motion.c). */
+extern uint16_t par_gen;
 
 /* The value in force / as written, for a parameter named at compile time;
  * card-wide parameters (PF_CARD) live in the slot of axis 0. */

@@ -25,7 +25,31 @@ int prof_must_brake(int64_t v, int64_t dec, int64_t rem)
     return (lhs >> 1) >= rhs;                   /* lhs >= 2 rhs, without overflowing 2 rhs */
 }
 
+int64_t prof_free_distance(int64_t vmax, int64_t dec)
+{
+    /* prof_must_brake is 0 iff d8 r8 > (v8 (v8 + d8)) / 2, i.e. r8 >= q with
+     * q = half / d8 + 1; it grows with v, so vmax decides for every v below.
+     * No division: half >> (bits of d8 - 1) is at least half / d8, at most
+     * twice it, so the distance is safe and at most twice the braking one. */
+    uint32_t v8 = sat32(vmax >> 8), d8 = sat32(dec >> 8);
+    if (d8 == 0)
+        d8 = 1;
+    uint32_t vd = v8 + d8 < v8 ? 0xFFFFFFFFu : v8 + d8;
+    unsigned k = 0;
+    while ((d8 >> k) > 1u)
+        k++;
+    uint64_t q = (prof_umul32(v8, vd) >> 1 >> k) + 1;
+    if (q > 0xFFFFFFFFull)
+        return INT64_MAX;                          /* never free */
+    return (int64_t)(q << 8) - 1;                  /* rem > this <=> sat32(rem >> 8) >= q */
+}
+
 int prof_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t dec)
+{
+    return prof_position_free(p, target, vmax, acc, dec, 0);
+}
+
+int prof_position_free(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t dec, int64_t free)
 {
     int64_t rem = target - p->pos;
     if (rem == 0 && p->vel == 0)
@@ -41,6 +65,7 @@ int prof_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t 
     } else {
         /* the fastest of accelerate / hold / brake from which a stop with
          * <dec> still ends at the target: u (u + dec) <= 2 dec rem */
+        int quick = free > 0 && rem > free && v <= vmax;   /* no braking test needed */
         int64_t up = v;
         if (v < vmax) {
             up = v + acc;
@@ -51,9 +76,9 @@ int prof_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t 
             if (up < vmax)
                 up = vmax;
         }
-        if (up > 0 && !prof_must_brake(up, dec, rem)) {
+        if (up > 0 && (quick || !prof_must_brake(up, dec, rem))) {
             v = up;
-        } else if (v > 0 && v <= vmax && !prof_must_brake(v, dec, rem)) {
+        } else if (v > 0 && v <= vmax && (quick || !prof_must_brake(v, dec, rem))) {
             /* cruise */
         } else {
             v -= dec;

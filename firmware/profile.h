@@ -18,6 +18,13 @@ typedef struct {
  * braking ramp dec (all > 0, Q16).  Lands exactly on target; returns 1
  * once there with velocity 0. */
 int prof_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t dec);
+/* The same, told that from a rest beyond `free` (> 0) no speed up to vmax
+ * needs braking yet (prof_free_distance): the braking test is skipped
+ * there, with the same result. */
+int prof_position_free(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t dec, int64_t free);
+/* The largest rest from which prof_must_brake(v, dec, rest) may still be 1
+ * for some 0 <= v <= vmax; beyond it it is 0.  Main loop: it divides. */
+int64_t prof_free_distance(int64_t vmax, int64_t dec);
 /* One SP of a velocity ramp towards vt: acc while the speed grows, dec
  * while it falls.  Returns 1 when vel == vt. */
 int prof_ramp(prof_t *p, int64_t vt, int64_t acc, int64_t dec);

@@ -124,9 +124,44 @@ static void umul32_exact(void **st)
     }
 }
 
+/* Beyond prof_free_distance(vmax, dec) no speed up to vmax must brake,
+ * and it is at most about twice the braking distance; prof_position_free
+ * with it moves exactly as prof_position. */
+static void free_distance_needs_no_braking(void **state)
+{
+    (void)state;
+    for (int i = 0; i < 3000; i++) {
+        int64_t vmax = Q(1 + rnd32() % 20000) + (rnd32() & 0xFFFF);
+        int64_t dec = Q(rnd32() % 300) + (rnd32() & 0xFFFF) + 1;
+        int64_t free = prof_free_distance(vmax, dec);
+        assert_true(free > 0);
+        if (free == INT64_MAX)
+            continue;                                  /* beyond what the Q8 test can tell */
+        for (int k = 0; k < 8; k++) {
+            int64_t v = k == 0 ? vmax : (int64_t)(((uint64_t)vmax * (rnd32() & 0xFFFF)) >> 16);
+            assert_int_equal(prof_must_brake(v, dec, free + 1 + (rnd32() & 0xFFFFF)), 0);
+        }
+        assert_true(prof_must_brake(vmax, dec, free / 4));   /* not far beyond the truth */
+    }
+    for (int i = 0; i < 200; i++) {
+        prof_t a = {0, 0}, b = {0, 0};
+        int64_t to = (int64_t)((int32_t)rnd32() >> 8) * 65536;
+        int64_t vmax = Q(1 + rnd32() % 2000), acc = Q(1 + rnd32() % 50), dec = Q(1 + rnd32() % 50);
+        int64_t free = prof_free_distance(vmax, dec);
+        for (int k = 0; k < 100000; k++) {
+            int da = prof_position(&a, to, vmax, acc, dec);
+            int db = prof_position_free(&b, to, vmax, acc, dec, free);
+            assert_true(a.pos == b.pos && a.vel == b.vel && da == db);
+            if (da)
+                break;
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(free_distance_needs_no_braking),
         cmocka_unit_test(lands_exactly_random),
         cmocka_unit_test(triangle_and_trapezoid_timing),
         cmocka_unit_test(fractional_velocities),
