@@ -182,7 +182,7 @@ static int write_param(unsigned a, unsigned p, int32_t v)
     if (p == P_SSF && PAR_W(a, LV) > v) {   /* 4.8.3: <lv> follows a lower <ssf> */
         par_w[P_LV][a] = v;
         par_a[P_LV][a] = v;
-        par_gen++;
+        par_gen[a]++;
     }
     return 0;
 }

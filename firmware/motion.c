@@ -41,14 +41,14 @@ static void vq_refresh(unsigned n)
 {
     axis_t *x = &axes[n];
     uint8_t turbo = (x->sstat & SB(TURBO)) != 0;
-    if (x->q_gen == par_gen && x->q_turbo == turbo)
+    if (x->q_gen == par_gen[n] && x->q_turbo == turbo)
         return;
     x->q_pv = vq(n, PAR(n, PV));
     x->q_pa = vq(n, PAR(n, PA));
     x->q_pd = vq(n, PAR(n, PD));
     x->q_ed = vq(n, PAR(n, ED));
     x->q_free = prof_free_distance(x->q_pv, x->q_pd);
-    x->q_gen = par_gen;
+    x->q_gen = par_gen[n];
     x->q_turbo = turbo;
 }
 

@@ -8,7 +8,16 @@ const pdesc_t pdesc[NPARAMS] = {
 
 int32_t par_w[NPARAMS][MAC4_NAXES];
 int32_t par_a[NPARAMS][MAC4_NAXES];
-uint16_t par_gen;
+uint16_t par_gen[MAC4_NAXES];
+
+static void changed(unsigned axis, unsigned p)
+{
+    if (pdesc[p].flags & PF_CARD)
+        for (unsigned a = 0; a < MAC4_NAXES; a++)
+            par_gen[a]++;
+    else
+        par_gen[axis]++;
+}
 
 static unsigned slot(unsigned axis, unsigned p) { return (pdesc[p].flags & PF_CARD) ? 0 : axis; }
 int32_t par(unsigned axis, unsigned p) { return par_a[p][slot(axis, p)]; }
@@ -19,7 +28,8 @@ void params_reset(void)
     for (unsigned p = 0; p < NPARAMS; p++)
         for (unsigned a = 0; a < MAC4_NAXES; a++)
             par_w[p][a] = par_a[p][a] = pdesc[p].def;
-    par_gen++;
+    for (unsigned a = 0; a < MAC4_NAXES; a++)
+        par_gen[a]++;
 }
 
 int params_write(unsigned axis, unsigned p, int32_t v)
@@ -30,7 +40,7 @@ int params_write(unsigned axis, unsigned p, int32_t v)
     par_w[p][a] = v;
     if (pdesc[p].flags & PF_IMM) {
         par_a[p][a] = v;
-        par_gen++;
+        changed(axis, p);
     }
     return 0;
 }
@@ -40,5 +50,5 @@ void params_activate(unsigned axis, uint8_t kind)
     for (unsigned p = 0; p < NPARAMS; p++)
         if (pdesc[p].kind == kind && !(pdesc[p].flags & PF_CARD))
             par_a[p][axis] = par_w[p][axis];
-    par_gen++;
+    par_gen[axis]++;
 }

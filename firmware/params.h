@@ -38,8 +38,8 @@ extern const pdesc_t pdesc[NPARAMS];
 extern int32_t par_w[NPARAMS][MAC4_NAXES];
 extern int32_t par_a[NPARAMS][MAC4_NAXES];
 /* Counts the changes of par_a, so that values derived from it can be cached
- * (the profile generator's Q16 velocities, motion.c). */
-extern uint16_t par_gen;
+ * (the profile generator's Q16 velocities, motion.c), per axis. */
+extern uint16_t par_gen[MAC4_NAXES];
 
 /* The value in force / as written, for a parameter named at compile time;
  * card-wide parameters (PF_CARD) live in the slot of axis 0. */
