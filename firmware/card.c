@@ -122,6 +122,13 @@ void axis_prepare(unsigned n)
     /* switch configuration (4.5): 0 off, 1 low active, 2 high active */
     static const uint16_t bits[4] = {AX_IN_IESP, AX_IN_IESN, AX_IN_RS, AX_IN_DF};
     int32_t cfg[4] = {PAR(n, PS), PAR(n, NS), PAR(n, RS), PAR(n, DF)};
+#if MAC4_CARD == MAC4_CARD_SSI
+    /* the SSI receiver reads the encoder at every timer expiry (the
+     * sampling instant): the tick finds the value there, or nearly */
+    uint16_t sync = et <= 2 ? AX_CTRL_SSI_SYNC : 0;
+    x->ctrl = (uint16_t)((x->ctrl & ~AX_CTRL_SSI_SYNC) | sync);
+    hal_wr16(AX_REG(n, AX_CTRL), x->ctrl);
+#endif
     x->sw_en = x->sw_inv = 0;
     for (unsigned i = 0; i < 4; i++) {
         if (cfg[i])
@@ -395,9 +402,6 @@ void fw_isr_tick(void)
 {
     hal_wr16(TMR_STATUS, TMR_ST_EXPIRED);
     unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
-#if MAC4_CARD == MAC4_CARD_SSI
-    measure_start();
-#endif
     if (phase == 0) {                             /* SP boundary: take the prepared rows */
         card_profile_late = (uint16_t)(card_profile_late + take_row(0) + take_row(1) + take_row(2) +
                                        take_row(3));

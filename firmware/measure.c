@@ -83,16 +83,6 @@ static int read_raw(unsigned n, uint32_t *raw)
     return 0;
 }
 
-void measure_start(void)
-{
-#if MAC4_CARD == MAC4_CARD_SSI
-    /* the four SSI receivers clock in parallel while the tick goes on */
-    for (unsigned n = 0; n < MAC4_NAXES; n++)
-        if (axis_initialised(n) && PAR(n, ET) <= 2)
-            hal_wr16(AX_REG(n, AX_SSI_START), 1);
-#endif
-}
-
 void measure_axis(unsigned n)
 {
     axis_t *x = &axes[n];

@@ -2,7 +2,6 @@
 #ifndef MEASURE_H
 #define MEASURE_H
 
-void measure_start(void);          /* tick start: latch what must be latched (SSI) */
 void measure_axis(unsigned n);     /* read and process one axis */
 void measure_init(unsigned n);     /* INIT: derive <ea>/<eb>/<ec>, zero relative position */
 

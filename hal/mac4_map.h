@@ -222,6 +222,8 @@
 #define AX_CTRL_PULSE_ACK      0x0100 /* STP, W 1: clear AX_IN_PULSE and AX_IN_PULSE_OVR */
 #define AX_CTRL_DONE_IE        0x0200 /* STP: interrupt when the pulse down-counter ends */
 #define AX_CTRL_DONE_ACK       0x0400 /* STP, W 1: clear AX_IN_PDONE */
+#define AX_CTRL_SSI_SYNC       0x0800 /* SSI: start a read at every expiry of the timer,
+                                       * the sampling instant of the tick */
 #define AX_DAC                 0x0C  /* W: INC/SSI, signed 12 bit, -2048..2047 = -10..+10 V */
 #define AX_RATE                0x0C  /* W: STP, 16-bit step rate */
 #define AX_SSI_START           0x0E  /* W: start a 26-clock SSI read */

@@ -6,6 +6,7 @@
 #include <string.h>
 #include "sim.h"
 #include "periph.h"
+#include "plant.h"
 
 static int estop_edge;   /* /STOP is wired to the edge-triggered level 7 (NMI) */
 
@@ -98,6 +99,10 @@ static void tmr_event(sim_t *s, cyc_t now)
                        (unsigned long long)(s->tmr.next / MAC4_CYCLES_PER_US));
         s->tmr.status |= TMR_ST_EXPIRED;
         s->tmr.last = s->tmr.next;
+        /* the SSI receivers set to AX_CTRL_SSI_SYNC freeze their encoders now */
+        for (int n = 0; n < MAC4_NAXES; n++)
+            if (s->card == MAC4_CARD_SSI && (s->ax[n].ctrl & AX_CTRL_SSI_SYNC))
+                plant_ssi_start(s, n, s->axis_sync ? sim_axis_peek(s) : s->tmr.last);
         s->tmr.next += US_TO_CYC(s->tmr.period_us ? s->tmr.period_us : 1);
     }
 }
