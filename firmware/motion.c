@@ -37,12 +37,18 @@ static int64_t vq(unsigned n, int32_t v)
 }
 
 /* The cached vq() values (axis_t q_*), fresh for this SP. */
-static void vq_refresh(unsigned n)
+static void vq_compute(unsigned n, uint8_t turbo);
+static inline __attribute__((always_inline)) void vq_refresh(unsigned n)
 {
     axis_t *x = &axes[n];
     uint8_t turbo = (x->sstat & SB(TURBO)) != 0;
-    if (x->q_gen == par_gen[n] && x->q_turbo == turbo)
-        return;
+    if (x->q_gen != par_gen[n] || x->q_turbo != turbo)
+        vq_compute(n, turbo);
+}
+
+static void vq_compute(unsigned n, uint8_t turbo)
+{
+    axis_t *x = &axes[n];
     x->q_pv = vq(n, PAR(n, PV));
     x->q_pa = vq(n, PAR(n, PA));
     x->q_pd = vq(n, PAR(n, PD));
@@ -215,7 +221,83 @@ static void justified(unsigned n, int set_zero)
 static int64_t sgn(int32_t v, int64_t mag) { return v < 0 ? -mag : mag; }
 
 /* ---- the profile generator, once per SP -------------------------------- */
+/* The SP from `before` to prof.pos as the tick takes it: start, step per
+ * tick and end split into 32-bit parts (STP), the four setpoints (INC/SSI). */
+static void next_segment(axis_t *x, int64_t before)
+{
+    PIN_PTR(x);
+    const prof_t *p = &x->prof;
+#if MAC4_CARD != MAC4_CARD_STP
+    int64_t dd = p->pos - before;
+    int32_t d = (int32_t)dd;
+    if (d == dd) {
+        /* the usual SP, in 32 bits: row k = round(before + (k+1) step) with
+         * step = floor(d / 4) - what the split arithmetic below gives */
+        int32_t *r = x->sp_next;
+        int32_t st = d >> 2, bi = (int32_t)(before >> 16);
+        int32_t q = (int32_t)(uint16_t)before + 0x8000;
+        q += st;
+        r[0] = bi + (q >> 16);
+        q += st;
+        r[1] = bi + (q >> 16);
+        q += st;
+        r[2] = bi + (q >> 16);
+        r[3] = (int32_t)((p->pos + 0x8000) >> 16);
+        x->nx_ready = 1;
+        return;
+    }
+#endif
+    split_q16(before, &x->nx_start_i, &x->nx_start_f);
+    split_q16(p->pos, &x->nx_end_i, &x->nx_end_f);
+    int64_t d64 = p->pos - before;
+    int32_t d32 = (int32_t)d64;
+    if (d32 == d64) {                            /* the usual SP: no 64-bit shift */
+        int32_t st = d32 >> 2;
+        x->nx_st_i = st >> 16;
+        x->nx_st_f = (uint16_t)st;
+    } else {
+        split_q16(d64 >> 2, &x->nx_st_i, &x->nx_st_f);
+    }
+#if MAC4_CARD != MAC4_CARD_STP
+    /* the four ticks' setpoints: start + k step, the last exactly the end */
+    int32_t *row = x->sp_next;
+    int32_t i = x->nx_start_i;
+    uint16_t f = x->nx_start_f;
+    for (unsigned k = 0; k < PROFILE_DIVIDER - 1u; k++) {
+        uint32_t f32 = (uint32_t)f + x->nx_st_f;
+        i += x->nx_st_i + (int32_t)(f32 >> 16);
+        f = (uint16_t)f32;
+        row[k] = i + (f >= 0x8000u);
+    }
+    row[PROFILE_DIVIDER - 1u] = x->nx_end_i + (x->nx_end_f >= 0x8000u);
+#endif
+    x->nx_ready = 1;
+}
+
+static void profile_modes(unsigned n) __attribute__((noinline));
+
+/* The common case first, in a small function: a positioning move far from
+ * its target (prof_cruise); everything else in profile_modes(). */
 void motion_profile_tick(unsigned n)
+{
+    axis_t *x = &axes[n];
+    PIN_PTR(x);
+    if (x->nx_ready)
+        return;                                  /* the tick has not taken the last one */
+#if MAC4_CARD != MAC4_CARD_STP
+    if (x->mode == M_POSITIONING && !x->stop_then && !x->done) {
+        vq_refresh(n);
+        int64_t before = x->prof.pos;
+        if (prof_cruise(&x->prof, x->target, x->q_pv, x->q_pa, x->q_free)) {
+            next_segment(x, before);
+            return;
+        }
+    }
+#endif
+    profile_modes(n);
+}
+
+static void profile_modes(unsigned n)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
@@ -408,25 +490,8 @@ void motion_profile_tick(unsigned n)
     stp_profile_end(n, before, before_vel);     /* BOOST <bt> ahead of a move (4.1.4) */
 #endif
     /* the next SP's segment, for the tick to take at the boundary */
-    if (x->mode != M_DISABLE && x->mode != M_TEST) {
-        split_q16(before, &x->nx_start_i, &x->nx_start_f);
-        split_q16(p->pos, &x->nx_end_i, &x->nx_end_f);
-        split_q16((p->pos - before) >> 2, &x->nx_st_i, &x->nx_st_f);
-#if MAC4_CARD != MAC4_CARD_STP
-        /* the four ticks' setpoints: start + k step, the last exactly the end */
-        int32_t *row = x->sp_next;
-        int32_t i = x->nx_start_i;
-        uint16_t f = x->nx_start_f;
-        for (unsigned k = 0; k < PROFILE_DIVIDER - 1u; k++) {
-            uint32_t f32 = (uint32_t)f + x->nx_st_f;
-            i += x->nx_st_i + (int32_t)(f32 >> 16);
-            f = (uint16_t)f32;
-            row[k] = i + (f >= 0x8000u);
-        }
-        row[PROFILE_DIVIDER - 1u] = x->nx_end_i + (x->nx_end_f >= 0x8000u);
-#endif
-        x->nx_ready = 1;
-    }
+    if (x->mode != M_DISABLE && x->mode != M_TEST)
+        next_segment(x, before);
 }
 
 /* ---- every servo tick ----------------------------------------------------

@@ -52,6 +52,8 @@ int prof_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t 
 int prof_position_free(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t dec, int64_t free)
 {
     int64_t rem = target - p->pos;
+    if (prof_cruise(p, target, vmax, acc, free))
+        return 0;
     if (rem == 0 && p->vel == 0)
         return 1;
     int neg = rem < 0;
