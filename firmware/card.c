@@ -201,18 +201,22 @@ uint16_t card_profile_late;
 
 /* The profile generator runs in the main loop, one SP ahead of the servo
  * ticks that interpolate its segments: the tick stays short, and the
- * profile has a whole SP to finish (7.4).  Each axis with interrupts masked,
- * so a tick never sees half a segment or half a mode change. */
+ * profile has a whole SP to finish (7.4).  One axis per main-loop pass
+ * (card_profile_due: a bit per axis still to do), so a command waits for
+ * one axis' step at most, not four; each with interrupts masked, so a tick
+ * never sees half a segment or half a mode change. */
 void card_profile_tick(void)
 {
-    if (!card_profile_due)
+    uint8_t due = card_profile_due;
+    if (!due)
         return;
-    card_profile_due = 0;
-    for (unsigned n = 0; n < MAC4_NAXES; n++) {
-        unsigned prev = hal_irq_save();
-        motion_profile_tick(n);
-        hal_irq_restore(prev);
-    }
+    unsigned n = 0;
+    while (!(due & (1u << n)))
+        n++;
+    unsigned prev = hal_irq_save();
+    card_profile_due = (uint8_t)(card_profile_due & ~(1u << n));
+    motion_profile_tick(n);
+    hal_irq_restore(prev);
 }
 
 /* ---- the tick ------------------------------------------------------------ */
@@ -405,7 +409,7 @@ void fw_isr_tick(void)
     if (phase == 0) {                             /* SP boundary: take the prepared rows */
         card_profile_late = (uint16_t)(card_profile_late + take_row(0) + take_row(1) + take_row(2) +
                                        take_row(3));
-        card_profile_due = 1;
+        card_profile_due = (1u << MAC4_NAXES) - 1u;
     }
     unsigned ph4 = phase * 4u;
     tick_axis(0, ph4);
@@ -423,7 +427,7 @@ void fw_isr_tick(void)
         for (unsigned n = 0; n < MAC4_NAXES; n++)
             if (motion_segment(n))
                 card_profile_late++;
-        card_profile_due = 1;
+        card_profile_due = (1u << MAC4_NAXES) - 1u;
     }
     for (unsigned n = 0; n < MAC4_NAXES; n++) {
         measure_axis(n);

@@ -89,7 +89,7 @@ extern uint32_t card_ticks;     /* servo ticks since reset */
 void card_reset(void);          /* outputs to reset state, defaults */
 void card_start(void);          /* timer, serial, interrupts */
 void card_profile_tick(void);   /* profile generator: the next SP's segments (main loop) */
-extern volatile uint8_t card_profile_due;   /* set by the tick at each SP boundary */
+extern volatile uint8_t card_profile_due;   /* axes to step, set by the tick at each SP boundary */
 extern uint16_t card_profile_late;          /* SP boundaries without a prepared segment */
 void card_supervise(void);      /* main loop, once after every tick: switches, reactions, DPRAM data */
 extern uint16_t card_supervise_late;        /* ticks supervised late (the main loop was held up) */
