@@ -661,12 +661,9 @@ void stp_status(unsigned n)
     status_of(x, s);
 }
 
-void stp_profile_end(unsigned n, int64_t before, int64_t before_vel)
+/* stp_profile_end() but for a move under way (below). */
+static __attribute__((noinline)) void profile_end(axis_t *x, stp_t *s, unsigned n, int64_t before, int64_t before_vel)
 {
-    axis_t *x = &axes[n];
-    stp_t *s = &stp_ax[n];
-    PIN_PTR(x);
-    PIN_PTR(s);
     prof_t *p = &x->prof;
     int wants = s->creep != CREEP_IDLE || p->pos != before;
     if (wants && !s->active) {
@@ -693,6 +690,19 @@ void stp_profile_end(unsigned n, int64_t before, int64_t before_vel)
         s->obits &= (uint16_t)~AX_CTRL_BOOST;
     }
     status_of(x, s);
+}
+
+void stp_profile_end(unsigned n, int64_t before, int64_t before_vel)
+{
+    axis_t *x = &axes[n];
+    stp_t *s = &stp_ax[n];
+    PIN_PTR(x);
+    PIN_PTR(s);
+    /* a move under way that goes on: BOOST stays as it is */
+    if (s->active && (s->creep != CREEP_IDLE || x->prof.pos != before))
+        status_of(x, s);
+    else
+        profile_end(x, s, n, before, before_vel);
 }
 
 /* ---- the tick (the common path is stp_servo in stepper.h) ------------------ */
