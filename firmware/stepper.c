@@ -73,10 +73,156 @@ static int stp_must_brake(int64_t u, int64_t dec, int64_t rem, int64_t ssf)
     return prof_must_brake(u, dec, rem - ssf);
 }
 
+/* ---- the same in 32 bits ---------------------------------------------------
+ * A move with less than 2^32 to go (Q16: 65536 steps) and speeds and ramps
+ * below 2^30 (16384 steps per SP) needs no 64-bit arithmetic: stp_position()
+ * and stp_positioning() take this path then, with exactly the results of the
+ * 64-bit one (a 64-bit add or compare is a few instructions on the 68000; a
+ * 64-bit product prof_umul32(), a shift by a variable amount a helper call). */
+#define STP_R30 0x40000000u
+
+/* a * b, for a, b < 2^31, as two 32-bit words from MULU.W: one when both
+ * factors fit 16 bits, two when a does. */
+static inline __attribute__((always_inline)) void stp_umul(uint32_t a, uint32_t b, uint32_t *hi, uint32_t *lo)
+{
+    uint16_t al = (uint16_t)a, bl = (uint16_t)b, bh = (uint16_t)(b >> 16);
+    uint32_t ll = mulu16(al, bl);
+    if (a < 0x10000u) {
+        if (!bh) {
+            *hi = 0;
+            *lo = ll;
+            return;
+        }
+        uint32_t m = mulu16(al, bh);
+        uint32_t l = ll + (m << 16);
+        *hi = (m >> 16) + (l < ll);
+        *lo = l;
+        return;
+    }
+    uint16_t ah = (uint16_t)(a >> 16);
+    uint32_t mid = mulu16(ah, bl) + mulu16(al, bh);    /* < 2^32: a, b < 2^31 */
+    uint32_t l = ll + (mid << 16);
+    *hi = mulu16(ah, bh) + (mid >> 16) + (l < ll);
+    *lo = l;
+}
+
+/* stp_must_brake() for 0 <= u, dec < 2^30, rem < 2^32, ssf >= 1:
+ * prof_must_brake()'s (v8 (v8 + d8)) >> 1 >= d8 r8 is v8 (v8 + d8) >= d8 (2 r8),
+ * and nothing saturates in this range. */
+static inline __attribute__((always_inline)) int stp_must_brake32(int32_t u, int32_t dec, uint32_t rem, int32_t ssf)
+{
+    if (u <= ssf)
+        return 0;
+    if (rem <= (uint32_t)ssf)
+        return 1;
+    uint32_t v8 = (uint32_t)u >> 8, d8 = (uint32_t)dec >> 8, r8 = (rem - (uint32_t)ssf) >> 8;
+    if (d8 == 0)
+        d8 = 1;
+    uint32_t h1, l1, h2, l2;
+    stp_umul(v8, v8 + d8, &h1, &l1);
+    stp_umul(d8, r8 << 1, &h2, &l2);
+    return h1 > h2 || (h1 == h2 && l1 >= l2);
+}
+
+/* One SP of stp_position(): the distance to go as sign (neg) and magnitude
+ * rem, the other values within 0 (vel: -2^30) .. 2^30, 1 <= ssf (see
+ * stp_position for the rules). */
+static inline __attribute__((always_inline)) int stp_position32(prof_t *p, uint32_t rem, int neg, int32_t vel,
+                                                                 int32_t vmax, int32_t acc, int32_t dec, int32_t ssf)
+{
+    if (rem == 0 && vel <= ssf && vel >= -ssf) { /* landed: the stop */
+        p->vel = 0;
+        return 1;
+    }
+    int32_t vprev = neg ? -vel : vel;
+    int32_t v = vprev;
+    if (v < 0) {
+        int32_t m = -v;
+        if (m <= ssf) {
+            m = 0;
+        } else {
+            m -= dec;
+            if (m < ssf)
+                m = ssf;
+        }
+        v = -m;
+    } else if (v == 0) {
+        v = ssf < vmax ? ssf : vmax;
+        if ((uint32_t)v > rem)
+            v = (int32_t)rem;
+    } else {
+        int32_t up = v;
+        if (v < vmax) {
+            up = v + acc;
+            if (up > vmax)
+                up = vmax;
+        } else if (v > vmax) {
+            up = v - dec;
+            if (up < vmax)
+                up = vmax;
+        }
+        if (!stp_must_brake32(up, dec, rem, ssf)) {
+            v = up;
+        } else if (v <= vmax && !stp_must_brake32(v, dec, rem, ssf)) {
+            /* cruise */
+        } else {
+            int32_t floor = ssf < v ? ssf : v;
+            v -= dec;
+            if (v < floor)
+                v = floor;
+        }
+        /* v >= 0 here */
+        if ((uint32_t)v >= rem && v <= ssf && (rem > 0 || vprev <= ssf))
+            v = (int32_t)rem;
+    }
+    int32_t nv = neg ? -v : v;
+    p->vel = nv;
+    p->pos += nv;
+    return v >= 0 && (uint32_t)v == rem && nv <= ssf && nv >= -ssf;
+}
+
+/* The 32-bit path's arguments, if the move is within its range: the
+ * distance within +-(2^32 - 1) (65535 steps), vel within +-2^30, the
+ * others within 0 .. 2^30 and ssf >= 1. */
+#define HI32(v) ((uint32_t)((uint64_t)(v) >> 32))
+static inline __attribute__((always_inline)) int stp_args32(const prof_t *p, int64_t target, int64_t vmax,
+                                                             int64_t acc, int64_t dec, int64_t ssf, uint32_t *rem,
+                                                             int *neg, int32_t *a)
+{
+    uint64_t r = (uint64_t)(target - p->pos);
+    uint32_t hi = HI32(r), lo = (uint32_t)r;
+    if (hi == 0) {
+        *neg = 0;
+        *rem = lo;
+    } else if (hi == 0xFFFFFFFFu && lo != 0) {
+        *neg = 1;
+        *rem = 0u - lo;
+    } else {
+        return 0;
+    }
+    uint32_t vl = (uint32_t)p->vel;
+    if (HI32(p->vel) != 0u - (vl >> 31))      /* the sign extension of the low word */
+        return 0;
+    a[0] = (int32_t)vl;
+    a[1] = (int32_t)vmax;
+    a[2] = (int32_t)acc;
+    a[3] = (int32_t)dec;
+    a[4] = (int32_t)ssf;
+    uint32_t out = HI32(vmax) | HI32(acc) | HI32(dec) | HI32(ssf) |
+                   (((uint32_t)a[1] | (uint32_t)a[2] | (uint32_t)a[3] | (uint32_t)a[4]) >> 30) |
+                   ((vl + STP_R30) >> 31);
+    return out == 0 && a[4] != 0;
+}
+
 int stp_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t dec, int64_t ssf)
 {
     if (ssf < 1)
         ssf = 1;
+    uint32_t r;
+    int n32;
+    int32_t a[5];
+    if (stp_args32(p, target, vmax, acc, dec, ssf, &r, &n32, a))
+        return stp_position32(p, r, n32, a[0], a[1], a[2], a[3], a[4]);
     int64_t rem = target - p->pos;
     if (rem == 0 && mag64(p->vel) <= ssf) {      /* landed: the stop */
         p->vel = 0;
@@ -277,41 +423,39 @@ int32_t stp_counts(unsigned n)
 
 int32_t stp_tol(unsigned n) { return stp_ax[n].tol; }
 
-int32_t stp_edge(unsigned n, int32_t d)
+/* stp_edge() with the axis' pointers at hand (the tick's creep path). */
+static inline __attribute__((always_inline)) int32_t edge_of(const axis_t *x, const stp_t *s, unsigned n, int32_t d)
 {
     if (stp_conv & (1u << n))
-        return stp_scale(stp_ax[n].inc + d, stp_ax[n].ratio);
-    return axes[n].meas + ((axes[n].ustat & UB(REV_O)) ? -d : d);
+        return stp_scale(s->inc + d, s->ratio);
+    return x->meas + ((x->ustat & UB(REV_O)) ? -d : d);
 }
+
+int32_t stp_edge(unsigned n, int32_t d) { return edge_of(&axes[n], &stp_ax[n], n, d); }
 
 /* The position now, re-reading the counter (the tick's reading is from its
  * start); external encoders keep the tick's value. */
-static int32_t meas_now(unsigned n)
+static inline __attribute__((always_inline)) int32_t meas_now(const axis_t *x, const stp_t *s, unsigned n)
 {
-    const axis_t *x = &axes[n];
     if (x->mk != MK_COUNTER)
         return x->meas;
     uint32_t hi = hal_rd16(AX_REG(n, AX_CNT_HI));           /* latches LO */
     uint32_t raw = (hi << 16) | hal_rd16(AX_REG(n, AX_CNT_LO));
     int32_t d = (int32_t)((raw - x->counter) << 8) >> 8;
-    return stp_edge(n, d);
+    return edge_of(x, s, n, d);
 }
 
 /* ---- the creep phase ------------------------------------------------------ */
-static void creep_stop(unsigned n)
+static void creep_stop(axis_t *x, stp_t *s, uint32_t reg)   /* reg: AX_REG(n, 0) */
 {
-    axis_t *x = &axes[n];
-    stp_t *s = &stp_ax[n];
-    PIN_PTR(x);
-    PIN_PTR(s);
     if (s->creep == CREEP_RUN || s->creep == CREEP_TRIM) {
-        hal_wr16(AX_REG(n, AX_RATE), 0);
-        hal_wr16(AX_REG(n, AX_PULSES), 0);                   /* free running again */
+        hal_wr16(reg + AX_RATE, 0);
+        hal_wr16(reg + AX_PULSES, 0);                       /* free running again */
         s->rate = 0;
         s->carry = 0;
     }
     x->ctrl = (uint16_t)(x->ctrl & ~(AX_CTRL_PULSE_IE | AX_CTRL_DONE_IE));
-    hal_wr16(AX_REG(n, AX_CTRL), (uint16_t)(x->ctrl | AX_CTRL_PULSE_ACK | AX_CTRL_DONE_ACK));
+    hal_wr16(reg + AX_CTRL, (uint16_t)(x->ctrl | AX_CTRL_PULSE_ACK | AX_CTRL_DONE_ACK));
     s->creep = CREEP_IDLE;
     s->hw_done = 0;
 }
@@ -321,22 +465,18 @@ static void creep_stop(unsigned n)
 static void creep_abort(unsigned n)
 {
     uint8_t c = stp_ax[n].creep;
-    creep_stop(n);
+    creep_stop(&axes[n], &stp_ax[n], AX_REG(n, 0));
     if (c != CREEP_DONE)
         motion_hold(n);
 }
 
 /* Tick: the ramp has ended on creep_from, the generator still runs at the
  * ramp's last rate (at most <ssf>). */
-static void creep_begin(unsigned n)
+static inline __attribute__((always_inline)) void creep_begin(axis_t *x, stp_t *s, unsigned n, uint32_t reg)
 {
-    axis_t *x = &axes[n];
-    stp_t *s = &stp_ax[n];
-    PIN_PTR(x);
-    PIN_PTR(s);
-    hal_wr16(AX_REG(n, AX_RATE), 0);             /* no pulse while we count */
+    hal_wr16(reg + AX_RATE, 0);                  /* no pulse while we count */
     s->rate = 0;
-    int32_t cur = meas_now(n);
+    int32_t cur = meas_now(x, s, n);
     int32_t miss = (int32_t)(x->target >> 16) - cur;
     if (s->creep == CREEP_REQ) {
         /* the profile's creep segment is the down-counter's: the setpoint is at its end */
@@ -365,9 +505,10 @@ static void creep_begin(unsigned n)
     s->dir = dir;
     s->obits = (uint16_t)((s->obits & ~AX_CTRL_DIR) | stp_dir_bit(x, dir));
     s->carry = 0;
-    hal_wr16(AX_REG(n, AX_PULSES), s->creep_n);  /* exactly this many, then the output stops */
+    hal_wr16(reg + AX_PULSES, s->creep_n);       /* exactly this many, then the output stops */
     x->ctrl = (uint16_t)(x->ctrl | AX_CTRL_DONE_IE);
-    if (s->lv_rate <= (s->clocks == STP_TICK_CLOCKS ? PULSE_IRQ_MAX_RATE : PULSE_IRQ_MAX_RATE_TURBO))
+    s->creep_irq = s->lv_rate <= (s->clocks == STP_TICK_CLOCKS ? PULSE_IRQ_MAX_RATE : PULSE_IRQ_MAX_RATE_TURBO);
+    if (s->creep_irq)
         x->ctrl = (uint16_t)(x->ctrl | AX_CTRL_PULSE_IE);
     s->rate = s->lv_rate;                        /* DIR and rate go out in axis_output */
     s->creep = CREEP_RUN;
@@ -376,19 +517,17 @@ static void creep_begin(unsigned n)
 /* Tick, while a creep or a trim is requested or running: 1 if the
  * down-counter has the axis this tick, 2 if the setpoint moved under the
  * caller, 0 if nothing. */
-int stp_creep_tick(unsigned n, unsigned phase, int32_t old_i, uint16_t old_f)
+static inline __attribute__((always_inline)) int creep_tick(axis_t *x, stp_t *s, unsigned n, unsigned phase,
+                                                            int32_t old_i, uint16_t old_f)
 {
-    axis_t *x = &axes[n];
-    stp_t *s = &stp_ax[n];
-    PIN_PTR(x);
-    PIN_PTR(s);
+    uint32_t reg = AX_REG(n, 0);
     if (s->creep == CREEP_TRIM) {
         if (x->sp_i == old_i && x->sp_f == old_f && !(x->in & AX_IN_PDONE)) {
             x->setpoint = old_i + (old_f >= 0x8000u);
             x->ferr = x->setpoint - x->meas;
             return 1;                            /* the trim's pulses still to come */
         }
-        creep_stop(n);                           /* done, or the profile moves on */
+        creep_stop(x, s, reg);                   /* done, or the profile moves on */
         return 0;
     }
     if (x->mode != M_POSITIONING || x->stop_then) {
@@ -398,18 +537,18 @@ int stp_creep_tick(unsigned n, unsigned phase, int32_t old_i, uint16_t old_f)
     if (s->creep == CREEP_REQ && phase != 0)
         return 0;                                /* the ramp's last segment still runs */
     if (s->creep == CREEP_REQ || s->creep == CREEP_WAIT)
-        creep_begin(n);
+        creep_begin(x, s, n, reg);
     if (s->creep != CREEP_RUN)
         return 2;
     uint16_t left;
     if (s->hw_done || (x->in & AX_IN_PDONE)) {
-        creep_stop(n);
+        creep_stop(x, s, reg);
         s->creep = CREEP_DONE;
         left = 0;
     } else if (x->ctrl & AX_CTRL_PULSE_IE) {
         left = (uint16_t)(s->creep_n - s->counted);
     } else {
-        left = hal_rd16(AX_REG(n, AX_PULSES));
+        left = hal_rd16(reg + AX_PULSES);
     }
     int32_t done = (int32_t)(s->creep_n - left);
     x->setpoint = s->creep_base + (s->creep_dir < 0 ? -done : done);
@@ -429,7 +568,7 @@ void stp_motion_start(unsigned n, uint8_t mode, int64_t ssf)
     s->clocks = turbo ? STP_TICK_CLOCKS_TURBO : STP_TICK_CLOCKS;
     s->lim = (uint32_t)s->clocks << 16;
     s->obits = (uint16_t)((s->obits & AX_CTRL_BOOST) | turbo | stp_dir_bit(x, s->dir));
-    s->ssf = stp_ssf_grid(ssf, turbo != 0);
+    s->ssf = (int32_t)stp_ssf_grid(ssf, turbo != 0);   /* at most 0x7FFFFFFF */
     uint16_t lv = (uint16_t)(stp_rate_hz((uint32_t)PAR(n, LV)) >> PAR(n, SF));
     s->lv_rate = lv ? lv : 1u;
     if (mode == M_POSITIONING) {
@@ -448,14 +587,25 @@ int stp_positioning(unsigned n, int64_t vmax, int64_t acc, int64_t dec, int64_t 
 {
     axis_t *x = &axes[n];
     stp_t *s = &stp_ax[n];
+    PIN_PTR(x);
+    PIN_PTR(s);
     prof_t *p = &x->prof;
     switch (x->phase) {
-    case 0:                                      /* the ramps, to creep_from */
-        if (p->pos != s->creep_from || mag64(p->vel) > ssf) {
+    case 0: {                                    /* the ramps, to creep_from */
+        uint32_t r;
+        int neg;
+        int32_t a[5];
+        if (stp_args32(p, s->creep_from, vmax, acc, dec, ssf, &r, &neg, a)) {
+            if (r != 0 || a[0] > a[4] || a[0] < -a[4]) {
+                stp_position32(p, r, neg, a[0], a[1], a[2], a[3], a[4]);
+                return 0;
+            }
+        } else if (p->pos != s->creep_from || mag64(p->vel) > ssf) {
             stp_position(p, s->creep_from, vmax, acc, dec, ssf);
             return 0;
         }
         x->phase = 1;                            /* landed, from at most <ssf> */
+    }
         /* fall through */
     case 1:                                      /* the creep: <stc> steps at <lv> */
         s->creep = CREEP_REQ;
@@ -473,11 +623,8 @@ int stp_positioning(unsigned n, int64_t vmax, int64_t acc, int64_t dec, int64_t 
 
 /* Once per SP for every axis: the system status bits (7.1.2,
  * docs/interpretations.md). */
-void stp_status(unsigned n)
+static inline __attribute__((always_inline)) void status_of(axis_t *x, const stp_t *s)
 {
-    axis_t *x = &axes[n];
-    const stp_t *s = &stp_ax[n];
-    PIN_PTR(x);
     uint32_t ss = x->sstat & ~(SB(DR_DISABLE) | SB(SERVO_ON) | SB(BOOST) | SB(BOOST_EN) | SB(IRQ_LINE) |
                                SB(LED_FAULT) | SB(PHASE5) | SB(BOOST_LOCK));
     if (s->dir < 0)
@@ -492,19 +639,33 @@ void stp_status(unsigned n)
         ss |= SB(BOOST_LOCK);                    /* a move waits for the BOOST lead time */
     if (x->ctrl & AX_CTRL_PULSE_IE)
         ss |= SB(IRQ_LINE);                      /* creep pulses counted by interrupt */
-    if (s->creep == CREEP_RUN)
+    if (s->creep == CREEP_RUN) {
         ss |= SB(PHASE5);                        /* the creep phase */
+        /* ... to its end: the last pulse's interrupt has already cleared
+         * PULSE_IE when it comes between a tick and this (the next tick ends
+         * the creep) */
+        if (s->hw_done && s->creep_irq)
+            ss |= SB(IRQ_LINE);
+    }
     if (x->ustat & US_ERRORS)
         ss |= SB(LED_FAULT);                     /* LED F */
     x->sstat = ss;
 }
 
-void stp_profile_end(unsigned n, int64_t before, int64_t before_vel)
+void stp_status(unsigned n)
 {
     axis_t *x = &axes[n];
-    stp_t *s = &stp_ax[n];
+    const stp_t *s = &stp_ax[n];
+    PIN_PTR(x);
+    PIN_PTR(s);
+    status_of(x, s);
+}
+
+/* stp_profile_end() but for a move under way (below). */
+static __attribute__((noinline)) void profile_end(axis_t *x, stp_t *s, unsigned n, int64_t before, int64_t before_vel)
+{
     prof_t *p = &x->prof;
-    int wants = p->pos != before || s->creep != CREEP_IDLE;
+    int wants = s->creep != CREEP_IDLE || p->pos != before;
     if (wants && !s->active) {
         if (!s->boost) {                         /* BOOST on, <bt> before the first step */
             s->boost = 1;
@@ -524,11 +685,24 @@ void stp_profile_end(unsigned n, int64_t before, int64_t before_vel)
                 x->phase = 1;
             }
         }
-    } else if (!wants && p->vel == 0 && before_vel == 0 && s->boost) {
+    } else if (!wants && s->boost && p->vel == 0 && before_vel == 0) {
         s->active = s->boost = s->boost_en = 0;  /* stand-still: BOOST off */
         s->obits &= (uint16_t)~AX_CTRL_BOOST;
     }
-    stp_status(n);
+    status_of(x, s);
+}
+
+void stp_profile_end(unsigned n, int64_t before, int64_t before_vel)
+{
+    axis_t *x = &axes[n];
+    stp_t *s = &stp_ax[n];
+    PIN_PTR(x);
+    PIN_PTR(s);
+    /* a move under way that goes on: BOOST stays as it is */
+    if (s->active && (s->creep != CREEP_IDLE || x->prof.pos != before))
+        status_of(x, s);
+    else
+        profile_end(x, s, n, before, before_vel);
 }
 
 /* ---- the tick (the common path is stp_servo in stepper.h) ------------------ */
@@ -552,17 +726,15 @@ void stp_trim(unsigned n)
     s->rate = s->lv_rate;
 }
 
-/* Every tick, modes with a profile (motion_servo_tick, after the setpoint
- * interpolation moved sp_i/sp_f on from old_i/old_f): the step rate for
- * this tick's distance, setpoint and following error; creep and trim in
- * stepper.c. */
-void stp_servo(axis_t *x, unsigned n, unsigned phase, int32_t old_i, uint16_t old_f)
+/* stp_servo (stepper.h) in every case: creep and trim, a new direction,
+ * stand-still, a jump. */
+void stp_servo_full(axis_t *x, unsigned n, unsigned phase, int32_t old_i, uint16_t old_f)
 {
     PIN_PTR(x);
     stp_t *s = &stp_ax[n];
     PIN_PTR(s);
     if (s->creep != CREEP_IDLE) {
-        int c = stp_creep_tick(n, phase, old_i, old_f);
+        int c = creep_tick(x, s, n, phase, old_i, old_f);
         if (c == 1)
             return;
         if (c == 2) {
@@ -628,7 +800,7 @@ void stp_idle_output(unsigned n)
         return;
     }
     if (s->creep != CREEP_IDLE)
-        creep_stop(n);
+        creep_stop(x, s, AX_REG(n, 0));
     s->rate = 0;
     s->carry = 0;
     s->active = s->boost = s->boost_en = 0;
@@ -637,30 +809,4 @@ void stp_idle_output(unsigned n)
 
 int32_t stp_out_hz(unsigned n) { return stp_hz_now(n); }
 
-/* Level 5: step pulses and the end of the pulse count, creep phase. */
-void stp_isr(uint16_t pending)
-{
-    unsigned prev = hal_irq_save();              /* the tick writes AX_CTRL too */
-    unsigned p = ((unsigned)pending >> 4) & 0xFFu;  /* bits 0-3 pulse, 4-7 done */
-    stp_t *s = stp_ax;
-    axis_t *x = axes;
-    uint32_t reg = AX_REG(0, 0);
-    PIN_PTR(s);
-    PIN_PTR(x);
-    for (unsigned m = (p | (p >> 4)) & 0xFu; m; m >>= 1, p >>= 1, s++, x++, reg += AXIS_STRIDE) {
-        if (!(p & 0x11u))
-            continue;
-        uint16_t ack = AX_CTRL_PULSE_ACK;
-        if (p & 0x10u) {                         /* the last one is out */
-            ack = AX_CTRL_PULSE_ACK | AX_CTRL_DONE_ACK;
-            x->ctrl = (uint16_t)(x->ctrl & ~(AX_CTRL_PULSE_IE | AX_CTRL_DONE_IE));
-            s->counted = s->creep_n;
-            s->hw_done = 1;
-        } else {                                 /* every pulse: count it (5.6) */
-            s->counted = (uint16_t)(s->creep_n - hal_rd16(reg + AX_PULSES));
-        }
-        hal_wr16(reg + AX_CTRL, (uint16_t)(x->ctrl | ack));
-    }
-    hal_irq_restore(prev);
-}
 #endif

@@ -62,8 +62,12 @@ int64_t stp_ssf_grid(int64_t ssf, int turbo);
 
 /* ---- the STP card -------------------------------------------------------- */
 #if MAC4_CARD == MAC4_CARD_STP
+#include "hal.h"
 #include "card.h"
-/* Per axis; public so that the tick's output stage (card.c) is a copy. */
+/* Per axis; public so that the tick's output stage (card.c) is a copy.
+ * 64 bytes on the 68000: &stp_ax[n] is then n << 6, not a multiply by the
+ * struct's size, in every function that takes an axis number (a field
+ * more needs another one out, or the padding to 128). */
 typedef struct {
     /* measurement */
     uint32_t ratio;         /* Q16 steps per increment */
@@ -75,10 +79,10 @@ typedef struct {
     uint16_t obits;         /* DIR, BOOST, TURBO for AX_CTRL */
     uint16_t clocks;        /* generator clocks per tick: 400, TURBO 4000 */
     int8_t dir;             /* direction of the last motion, 1 or -1 (0: none yet) */
-    uint32_t lim;           /* clocks << 16: the rate register's end */
-    uint32_t carry;         /* Q16 steps the rates still owe */
     /* BOOST (4.1.4) */
     uint8_t boost;          /* BOOST output on */
+    uint32_t lim;           /* clocks << 16: the rate register's end */
+    uint32_t carry;         /* Q16 steps the rates still owe */
     uint8_t boost_en;       /* BOOST on long enough: the move may go */
     uint8_t active;         /* a move is under way: BOOST stays on */
     uint32_t boost_tick;    /* card_ticks when it went on */
@@ -87,19 +91,23 @@ typedef struct {
     volatile uint8_t hw_done;       /* the down-counter ended (interrupt) */
     volatile uint16_t counted;      /* creep pulses counted by interrupt */
     int8_t creep_dir;
+    uint8_t creep_irq;      /* this creep's pulses are counted by interrupt */
     uint16_t creep_n;       /* pulses programmed */
     uint16_t lv_rate;       /* rate register of <lv> */
     int32_t creep_base;     /* position where the creep began */
     int64_t creep_from;     /* where the ramps end and the creep begins (Q16) */
-    int64_t ssf;            /* <ssf>, Q16 steps per SP on the rate grid (at E) */
+    int32_t ssf;            /* <ssf>, Q16 steps per SP on the rate grid (at E; < 2^31) */
 } stp_t;
+#if defined(HAL_TARGET)
+_Static_assert(sizeof(stp_t) == 64, "stp_t: 64 bytes, so that &stp_ax[n] is a shift");
+#endif
 extern stp_t stp_ax[MAC4_NAXES];
 #define STP_OBITS (AX_CTRL_DIR | AX_CTRL_BOOST | AX_CTRL_TURBO)
 #define STP_CREEP_IDLE 0
 
 /* AX_CTRL's DIR for a motion in direction dir: 0 V (bit set) = positive,
  * open collector = negative (table 2.12); USR turns it round (4.2). */
-static inline uint16_t stp_dir_bit(const axis_t *x, int8_t dir)
+static inline __attribute__((always_inline)) uint16_t stp_dir_bit(const axis_t *x, int8_t dir)
 {
     return ((dir >= 0) != ((x->ustat & UB(REV_O)) != 0)) ? AX_CTRL_DIR : 0;
 }
@@ -116,18 +124,48 @@ void stp_motion_start(unsigned n, uint8_t mode, int64_t ssf);    /* E */
 void stp_status(unsigned n);                  /* once per SP: TURBO, status bits */
 int stp_positioning(unsigned n, int64_t vmax, int64_t acc, int64_t dec, int64_t ssf);
 void stp_profile_end(unsigned n, int64_t before, int64_t before_vel);  /* BOOST gate */
-int stp_creep_tick(unsigned n, unsigned phase, int32_t old_i, uint16_t old_f);
 void stp_trim(unsigned n);
 /* output stage and interrupts (card.c) */
 void stp_idle_output(unsigned n);             /* disabled or test mode */
-void stp_isr(uint16_t pending);
 int32_t stp_out_hz(unsigned n);               /* ROUT */
 
 /* Every tick, modes with a profile (motion_servo_tick, after the setpoint
  * interpolation moved sp_i/sp_f on from old_i/old_f): the step rate for
- * this tick's distance, setpoint and following error.  Out of line: inlined,
- * it makes motion_servo_tick save more registers on every call. */
-void stp_servo(axis_t *x, unsigned n, unsigned phase, int32_t old_i, uint16_t old_f);
+ * this tick's distance, setpoint and following error.  The common case -
+ * no creep or trim, moving on in the direction of the last tick - is
+ * inline here (no call, no arguments on the stack); everything else is
+ * stp_servo_full() in stepper.c, which handles every case. */
+void stp_servo_full(axis_t *x, unsigned n, unsigned phase, int32_t old_i, uint16_t old_f);
+static inline __attribute__((always_inline)) void stp_servo(axis_t *x, unsigned n, unsigned phase, int32_t old_i,
+                                                            uint16_t old_f)
+{
+    stp_t *s = &stp_ax[n];
+    PIN_PTR(s);
+    int32_t di = (int32_t)((uint32_t)x->sp_i - (uint32_t)old_i);
+    if (s->creep == STP_CREEP_IDLE && (uint32_t)di + 30000u <= 60000u) {
+        /* the setpoint of the last tick is where its steps have brought the
+         * axis by now (the steps of this tick are still to come, 4.8.1) */
+        int32_t d = (int32_t)((uint32_t)di << 16) + (int32_t)x->sp_f - (int32_t)old_f;
+        if (d > 0 ? s->dir > 0 : d < 0 && s->dir < 0) {
+            int32_t sp = old_i + (old_f >= 0x8000u);
+            x->setpoint = sp;
+            x->ferr = sp - x->meas;
+            /* the rate register for |d| Q16 steps in this tick: |d| / 400
+             * (stp_rate_of); the carry (< clocks) cannot wrap |d| < 2^31 */
+            uint32_t t = (uint32_t)(d < 0 ? -d : d) + s->carry;
+            if (t >= s->lim) {
+                s->carry = 0;
+                s->rate = 0xFFFFu;
+            } else {
+                uint32_t qr = stp_divu16(t, s->clocks);
+                s->carry = qr >> 16;
+                s->rate = (uint16_t)qr;
+            }
+            return;
+        }
+    }
+    stp_servo_full(x, n, phase, old_i, old_f);
+}
 
 /* axis_output, every tick: DIR, BOOST, TURBO of AX_CTRL; returns the rate. */
 static inline uint16_t stp_output(unsigned n, uint8_t mode, uint16_t *ctrl)
@@ -138,6 +176,38 @@ static inline uint16_t stp_output(unsigned n, uint8_t mode, uint16_t *ctrl)
         stp_idle_output(n);
     *ctrl = (uint16_t)((*ctrl & ~STP_OBITS) | s->obits);
     return s->rate;
+}
+
+/* Level 5 (fw_isr_axis): step pulses and the end of the pulse count, creep
+ * phase.  Inline, and one copy per axis with constant addresses: no call,
+ * no loop, no registers to save beyond the handler's own. */
+static inline __attribute__((always_inline)) void stp_isr_axis(unsigned k, unsigned p)
+{
+    if (!(p & (0x11u << k)))
+        return;
+    stp_t *s = &stp_ax[k];
+    axis_t *x = &axes[k];
+    uint16_t ack = AX_CTRL_PULSE_ACK;
+    if (p & (0x10u << k)) {                      /* the last one is out */
+        ack = AX_CTRL_PULSE_ACK | AX_CTRL_DONE_ACK;
+        x->ctrl = (uint16_t)(x->ctrl & ~(AX_CTRL_PULSE_IE | AX_CTRL_DONE_IE));
+        s->counted = s->creep_n;
+        s->hw_done = 1;
+    } else {                                     /* every pulse: count it (5.6) */
+        s->counted = (uint16_t)(s->creep_n - hal_rd16(AX_REG(k, AX_PULSES)));
+    }
+    hal_wr16(AX_REG(k, AX_CTRL), (uint16_t)(x->ctrl | ack));
+}
+
+static inline __attribute__((always_inline)) void stp_isr(uint16_t pending)
+{
+    unsigned prev = hal_irq_save();              /* the tick writes AX_CTRL too */
+    unsigned p = ((unsigned)pending >> 4) & 0xFFu;  /* bits 0-3 pulse, 4-7 done */
+    stp_isr_axis(0, p);
+    stp_isr_axis(1, p);
+    stp_isr_axis(2, p);
+    stp_isr_axis(3, p);
+    hal_irq_restore(prev);
 }
 
 /* The step frequency now, Hz, signed: x 0.7629 (TURBO x 7.629). */
