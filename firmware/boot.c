@@ -105,7 +105,6 @@ void fw_init(void)
     q_create(DP_CMD_QUEUE);
     q_create(DP_RSP_QUEUE);
     write_banner();
-    display(5);
-
     card_start();               /* timer, serial line, interrupts on */
+    display(5);                 /* ready: a host that sees $5 finds the card running */
 }

@@ -207,15 +207,13 @@ uint16_t card_profile_late;
  * never sees half a segment or half a mode change. */
 void card_profile_tick(void)
 {
-    uint8_t due = card_profile_due;
-    if (!due)
-        return;
-    unsigned n = 0;
-    while (!(due & (1u << n)))
-        n++;
     unsigned prev = hal_irq_save();
-    card_profile_due = (uint8_t)(card_profile_due & ~(1u << n));
-    motion_profile_tick(n);
+    uint8_t due = card_profile_due;
+    if (due) {
+        /* axes in turn: due counts down 4, 3, 2, 1 */
+        card_profile_due = (uint8_t)(due - 1u);
+        motion_profile_tick(MAC4_NAXES - due);
+    }
     hal_irq_restore(prev);
 }
 
@@ -409,7 +407,7 @@ void fw_isr_tick(void)
     if (phase == 0) {                             /* SP boundary: take the prepared rows */
         card_profile_late = (uint16_t)(card_profile_late + take_row(0) + take_row(1) + take_row(2) +
                                        take_row(3));
-        card_profile_due = (1u << MAC4_NAXES) - 1u;
+        card_profile_due = MAC4_NAXES;
     }
     unsigned ph4 = phase * 4u;
     tick_axis(0, ph4);
@@ -427,7 +425,7 @@ void fw_isr_tick(void)
         for (unsigned n = 0; n < MAC4_NAXES; n++)
             if (motion_segment(n))
                 card_profile_late++;
-        card_profile_due = (1u << MAC4_NAXES) - 1u;
+        card_profile_due = MAC4_NAXES;
     }
     for (unsigned n = 0; n < MAC4_NAXES; n++) {
         measure_axis(n);

@@ -51,6 +51,7 @@ typedef struct {
      * (vq() of <pv>, <pa>, <pd>, <ed>), recomputed only when par_a or TURBO
      * changed; q_free: prof_free_distance(<pv>, <pd>) */
     int64_t q_pv, q_pa, q_pd, q_ed, q_free;
+    int64_t q_free32;   /* max(q_free, q_pv) when <pv> and <pa> fit 32 bits (prof_cruise32), else 0 */
     uint16_t q_gen;
     uint8_t q_turbo;
     /* position controller (servo.c) */
@@ -89,7 +90,7 @@ extern uint32_t card_ticks;     /* servo ticks since reset */
 void card_reset(void);          /* outputs to reset state, defaults */
 void card_start(void);          /* timer, serial, interrupts */
 void card_profile_tick(void);   /* profile generator: the next SP's segments (main loop) */
-extern volatile uint8_t card_profile_due;   /* axes to step, set by the tick at each SP boundary */
+extern volatile uint8_t card_profile_due;   /* axes still to step this SP: 4 at each SP boundary */
 extern uint16_t card_profile_late;          /* SP boundaries without a prepared segment */
 void card_supervise(void);      /* main loop, once after every tick: switches, reactions, DPRAM data */
 extern uint16_t card_supervise_late;        /* ticks supervised late (the main loop was held up) */

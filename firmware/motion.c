@@ -54,6 +54,9 @@ static void vq_compute(unsigned n, uint8_t turbo)
     x->q_pd = vq(n, PAR(n, PD));
     x->q_ed = vq(n, PAR(n, ED));
     x->q_free = prof_free_distance(x->q_pv, x->q_pd);
+    x->q_free32 = 0;
+    if (x->q_pv < (1l << 30) && x->q_pa < (1l << 30) && x->q_free > 0)
+        x->q_free32 = x->q_free > x->q_pv ? x->q_free : x->q_pv;
     x->q_gen = par_gen[n];
     x->q_turbo = turbo;
 }
@@ -223,6 +226,24 @@ static int64_t sgn(int32_t v, int64_t mag) { return v < 0 ? -mag : mag; }
 /* ---- the profile generator, once per SP -------------------------------- */
 /* The SP from `before` to prof.pos as the tick takes it: start, step per
  * tick and end split into 32-bit parts (STP), the four setpoints (INC/SSI). */
+/* The four setpoints of an SP that moves d (Q16, |d| < 2^30) from before:
+ * row k = round(before + (k+1) floor(d / 4)), the last round(before + d) -
+ * what the split arithmetic of next_segment gives. */
+static inline __attribute__((always_inline)) void rows_of(axis_t *x, int64_t before, int32_t d)
+{
+    int32_t *r = x->sp_next;
+    int32_t st = d >> 2, bi = (int32_t)(before >> 16);
+    int32_t q0 = (int32_t)(uint16_t)before + 0x8000, q = q0;
+    q += st;
+    r[0] = bi + (q >> 16);
+    q += st;
+    r[1] = bi + (q >> 16);
+    q += st;
+    r[2] = bi + (q >> 16);
+    r[3] = bi + ((q0 + d) >> 16);
+    x->nx_ready = 1;
+}
+
 static void next_segment(axis_t *x, int64_t before)
 {
     PIN_PTR(x);
@@ -230,20 +251,8 @@ static void next_segment(axis_t *x, int64_t before)
 #if MAC4_CARD != MAC4_CARD_STP
     int64_t dd = p->pos - before;
     int32_t d = (int32_t)dd;
-    if (d == dd) {
-        /* the usual SP, in 32 bits: row k = round(before + (k+1) step) with
-         * step = floor(d / 4) - what the split arithmetic below gives */
-        int32_t *r = x->sp_next;
-        int32_t st = d >> 2, bi = (int32_t)(before >> 16);
-        int32_t q = (int32_t)(uint16_t)before + 0x8000;
-        q += st;
-        r[0] = bi + (q >> 16);
-        q += st;
-        r[1] = bi + (q >> 16);
-        q += st;
-        r[2] = bi + (q >> 16);
-        r[3] = (int32_t)((p->pos + 0x8000) >> 16);
-        x->nx_ready = 1;
+    if (d == dd && d < (1l << 30) && d > -(1l << 30)) {
+        rows_of(x, before, d);                   /* the usual SP, in 32 bits */
         return;
     }
 #endif
@@ -288,8 +297,10 @@ void motion_profile_tick(unsigned n)
     if (x->mode == M_POSITIONING && !x->stop_then && !x->done) {
         vq_refresh(n);
         int64_t before = x->prof.pos;
-        if (prof_cruise(&x->prof, x->target, x->q_pv, x->q_pa, x->q_free)) {
-            next_segment(x, before);
+        int32_t d;
+        if (x->q_free32 &&
+            (d = prof_cruise32(&x->prof, x->target, (int32_t)x->q_pv, (int32_t)x->q_pa, x->q_free32)) != 0) {
+            rows_of(x, before, d);
             return;
         }
     }

@@ -123,7 +123,13 @@ def test_native_backend_resets_like_the_68000(runs, card):
         assert p.returncode == 0, p.stderr
         out[name] = [l for l in p.stdout.splitlines() if l.split()[0] in ("resp", "reset", "display")]
     assert "reset watchdog" in out["native"]
-    assert out["native"] == out["68000"]
+    # the same answers, resets and displays, each in order; how a display
+    # change interleaves with a response the host sees at its next poll
+    # depends on the CPU's speed
+    for kind in ("resp", "reset", "display"):
+        n = [l for l in out["native"] if l.startswith(kind)]
+        m = [l for l in out["68000"] if l.startswith(kind)]
+        assert n and n == m, kind
 
 
 def stop_scenario(card, extra):
