@@ -277,7 +277,10 @@ static void axis_inputs(unsigned n)
         axis_disable(n);
 }
 
-static void axis_output(unsigned n, int32_t out)
+static inline __attribute__((always_inline)) void axis_output_at(unsigned n, int32_t out);
+static void axis_output(unsigned n, int32_t out) { axis_output_at(n, out); }
+
+static inline __attribute__((always_inline)) void axis_output_at(unsigned n, int32_t out)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
@@ -427,10 +430,15 @@ void fw_isr_tick(void)
                 card_profile_late++;
         card_profile_due = MAC4_NAXES;
     }
-    for (unsigned n = 0; n < MAC4_NAXES; n++) {
-        measure_axis(n);
-        axis_output(n, motion_servo_tick(n, phase));
-    }
+    /* four times with a constant n: absolute register addresses */
+    measure_axis(0);
+    axis_output_at(0, motion_servo_tick(0, phase));
+    measure_axis(1);
+    axis_output_at(1, motion_servo_tick(1, phase));
+    measure_axis(2);
+    axis_output_at(2, motion_servo_tick(2, phase));
+    measure_axis(3);
+    axis_output_at(3, motion_servo_tick(3, phase));
     card_ticks++;
 }
 #endif
