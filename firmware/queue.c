@@ -14,24 +14,35 @@ void q_create(uint32_t q)
 
 /* The host may write anything into the header; the card trusts only the
  * fixed values of table 7.1 and indices inside 0..nel-1, so no access can
- * leave the element area. */
-int q_check(uint32_t q)
+ * leave the element area.  The header is read once: the indices checked
+ * are the indices used (a host writing between a check and a second read
+ * could otherwise steer the card out of the queue). */
+static int q_header(uint32_t q, uint32_t *front, uint32_t *rear)
 {
     if (hal_rd32(q + QH_BASE) != Q_HEADER_SIZE || hal_rd32(q + QH_WIDTH) != Q_WIDTH ||
         hal_rd32(q + QH_NEL) != Q_NEL)
         return Q_CORRUPT;
-    if (hal_rd32(q + QH_FRONT) >= Q_NEL || hal_rd32(q + QH_REAR) >= Q_NEL)
+    uint32_t f = hal_rd32(q + QH_FRONT), r = hal_rd32(q + QH_REAR);
+    if (f >= Q_NEL || r >= Q_NEL)
         return Q_CORRUPT;
+    *front = f;
+    *rear = r;
     return 0;
+}
+
+int q_check(uint32_t q)
+{
+    uint32_t f, r;
+    return q_header(q, &f, &r);
 }
 
 static uint32_t q_elem(uint32_t q, uint32_t i) { return q + Q_HEADER_SIZE + i * Q_WIDTH; }
 
 int q_get(uint32_t q, mac4_msg_t *m)
 {
-    if (q_check(q))
+    uint32_t front, rear;
+    if (q_header(q, &front, &rear))
         return Q_CORRUPT;
-    uint32_t front = hal_rd32(q + QH_FRONT), rear = hal_rd32(q + QH_REAR);
     if (front == rear)
         return Q_EMPTY;
     uint32_t e = q_elem(q, rear);
@@ -45,9 +56,9 @@ int q_get(uint32_t q, mac4_msg_t *m)
 
 int q_put(uint32_t q, const mac4_msg_t *m)
 {
-    if (q_check(q))
+    uint32_t front, rear;
+    if (q_header(q, &front, &rear))
         return Q_CORRUPT;
-    uint32_t front = hal_rd32(q + QH_FRONT), rear = hal_rd32(q + QH_REAR);
     uint32_t next = q_next(front, Q_NEL);
     if (next == rear)
         return Q_FULL;
