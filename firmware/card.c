@@ -173,6 +173,12 @@ void card_reset(void)
         x->ustat = UB(ON_FLY);                    /* on-fly after switch-on (5.15) */
         axis_set_mode(n, M_DISABLE);
         motion_hold(n);
+#if MAC4_CARD == MAC4_CARD_SSI
+        /* J1 (Gray or binary) is readable from basic init on: known before
+         * an INIT that comes ahead of the first tick reads the encoder */
+        if (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_GRAY)
+            x->ustat |= UB(GRAY);
+#endif
     }
     hal_wr16(SYS_LEDS, 0x1111);                   /* LED D on for every axis */
     card_ostat = 0;

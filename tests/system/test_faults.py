@@ -1118,12 +1118,8 @@ def test_the_matrix_checks_fail_when_they_should(row, card, finding):
 
 
 # ---- found on the way ----------------------------------------------------------------
-K5 = ("K5: the SSI card puts the Gray jumper J1 into the user status only at the first servo tick after the "
-      "boot; an INIT before it (the card shows 5 and takes commands at once) decodes the absolute SSI "
-      "position as binary, and an E in the same 2.5 ms holds that wrong position: full output, then 163 ferr_f")
-
-
-@pytest.mark.xfail(strict=True, reason=K5)
+# K5 (fixed): the SSI card put the Gray jumper J1 into the user status only at the first servo tick
+# after the boot; an INIT before it decoded the absolute SSI position as binary.
 def test_ssi_position_at_an_init_right_after_boot():
     """4.9: the state of the Gray/binary jumpers is available from basic
     initialisation on, and INIT activates the position measurement."""
