@@ -232,6 +232,9 @@ static int64_t sgn(int32_t v, int64_t mag) { return v < 0 ? -mag : mag; }
 static inline __attribute__((always_inline)) void rows_of(axis_t *x, int64_t before, int32_t d)
 {
     int32_t *r = x->sp_next;
+    /* >> of a negative value: GCC shifts arithmetically (floor), as the
+     * firmware relies on throughout, e.g. the 24-bit sign extension */
+    // cppcheck-suppress shiftNegativeLHS ; see above
     int32_t st = d >> 2, bi = (int32_t)(before >> 16);
     int32_t q0 = (int32_t)(uint16_t)before + 0x8000, q = q0;
     q += st;
@@ -250,21 +253,22 @@ static void next_segment(axis_t *x, int64_t before)
     const prof_t *p = &x->prof;
 #if MAC4_CARD != MAC4_CARD_STP
     int64_t dd = p->pos - before;
-    int32_t d = (int32_t)dd;
-    if (d == dd && d < (1l << 30) && d > -(1l << 30)) {
-        rows_of(x, before, d);                   /* the usual SP, in 32 bits */
+    if (dd < (1l << 30) && dd > -(1l << 30)) {
+        rows_of(x, before, (int32_t)dd);         /* the usual SP, in 32 bits */
         return;
     }
 #endif
     split_q16(before, &x->nx_start_i, &x->nx_start_f);
     split_q16(p->pos, &x->nx_end_i, &x->nx_end_f);
     int64_t d64 = p->pos - before;
-    int32_t d32 = (int32_t)d64;
-    if (d32 == d64) {                            /* the usual SP: no 64-bit shift */
+    if (d64 >= INT32_MIN && d64 <= INT32_MAX) {  /* the usual SP: no 64-bit shift */
+        int32_t d32 = (int32_t)d64;
+        // cppcheck-suppress shiftNegativeLHS ; arithmetic (floor) on GCC, as in rows_of
         int32_t st = d32 >> 2;
         x->nx_st_i = st >> 16;
         x->nx_st_f = (uint16_t)st;
     } else {
+        // cppcheck-suppress shiftNegativeLHS ; arithmetic (floor) on GCC, as in rows_of
         split_q16(d64 >> 2, &x->nx_st_i, &x->nx_st_f);
     }
 #if MAC4_CARD != MAC4_CARD_STP
