@@ -34,7 +34,11 @@ def native(card):
 
 def script(steps, setup=()):
     """setup: host-script lines (plant configuration) before the card boots."""
-    out = ["perf axis-sync on"] + list(setup) + ["wait-display 5 3000", "run-ticks 2 off-sp", "perf ticks -"]
+    # display 5 comes just before fw_init() starts the timer: wait-display may
+    # return in between (where its 100 us step ends depends on the boot's
+    # length), and run-ticks wants a running timer
+    out = ["perf axis-sync on"] + list(setup) + ["wait-display 5 3000", "run 0.2", "run-ticks 2 off-sp",
+                                                  "perf ticks -"]
     k, boundary = 0, True
     for i, st in enumerate(steps):
         if st[0] == "ticks":
