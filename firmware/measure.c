@@ -44,6 +44,7 @@ typedef struct {
     uint32_t addr;      /* EXT_DPRAM: offset of the value; EXT_VME*: window address of the MSW */
     uint16_t page;      /* EXT_VME*: VME_PAGE, A23-A20 */
     uint8_t path;       /* EXT_*; EXT_NONE for internal systems and a refused <ea> */
+    uint8_t failed;     /* an encoder error was raised and the axis has not run since (6.3.8) */
 } meas_cfg_t;
 static meas_cfg_t mc[MAC4_NAXES];
 
@@ -132,6 +133,19 @@ static int read_raw(unsigned n, uint32_t *raw)
     return 0;
 }
 
+/* 6.3.8: encoder_f and logo_f, 163 for the next command, disabled without a
+ * ramp.  Once: while the axis stays disabled after it, a measurement that
+ * keeps failing raises nothing more, so C, DEINIT and new parameters get
+ * through; enabled again, the next failure raises it again. */
+static void encoder_error(unsigned n)
+{
+    if (mc[n].failed)
+        return;
+    mc[n].failed = 1;
+    axis_error(n, UB(ENCODER_F) | UB(LOGO_F), ERR_LOGICAL);
+    axis_disable(n);                                    /* without a ramp */
+}
+
 void measure_start(void)
 {
 #if MAC4_CARD == MAC4_CARD_SSI
@@ -157,17 +171,17 @@ void measure_axis(unsigned n)
         x->raw = x->counter = raw;
     } else {
         uint32_t raw;
+        if (x->mode != M_DISABLE)
+            mc[n].failed = 0;                           /* the axis runs: a failure counts again */
         if (read_raw(n, &raw)) {
-            axis_error(n, UB(ENCODER_F) | UB(LOGO_F), ERR_LOGICAL);
-            axis_disable(n);                            /* 6.3.8: without a ramp */
+            encoder_error(n);
             return;
         }
         int32_t et = PAR(n, ET), eb = PAR(n, EB), ec = PAR(n, EC);
         raw &= eb_mask(eb);
         if (et == 2 || et == 4) {                       /* absolute */
             if (ec > 0 && raw >= (uint32_t)ec) {
-                axis_error(n, UB(ENCODER_F) | UB(LOGO_F), ERR_LOGICAL);
-                axis_disable(n);
+                encoder_error(n);
                 return;
             }
             d = (int32_t)raw - x->meas;
@@ -213,6 +227,7 @@ void measure_init(unsigned n)
     uint32_t ea = (uint32_t)PAR(n, EA);
     meas_cfg_t *c = &mc[n];
     int32_t eb = PAR(n, EB);
+    c->failed = 0;
     c->path = EXT_NONE;                                 /* read_raw() fails: encoder error */
     if (et >= 3 && measure_ea_ok(ea, eb)) {
         if (ea < DPRAM_SIZE) {

@@ -8,6 +8,7 @@ import pytest
 
 from conftest import CARDS
 from mac4 import BIT, MODE, run, ubits
+from test_serial import parse, rx_bytes
 
 ERR_LIMIT, ERR_LOGICAL = 162, 163
 
@@ -114,3 +115,42 @@ def test_internal_systems_ignore_ea():
     # <et> 1: the counter register, whatever <ea> says (table 4.3 "def.")
     r = run([(0, "UWEA", 0x80C000), (0, "INIT"), "run 5", "counter 0 1234", "run 10", (0, "RCP")])
     assert codes(r) == [180, 2, 116] and rcp(r) == [1234]
+
+
+# ---- K2: an encoder error is raised once --------------------------------------------
+def test_absolute_value_beyond_ec_is_reported_once_then_the_host_recovers():
+    r = run([(0, "UWET", 4), (0, "UWEA", 0x330A), (0, "UWEC", 1000),
+             "poke32 0x330A 5000", "poke16 0x3308 0x8000", (0, "INIT"), "run 20",
+             (0, "RBS"), "run 20", (0, "C"), "run 20", (0, "C"), "run 20", (0, "DEINIT"), "run 20",
+             (0, "UWEC", 10000), "run 20", (0, "INIT"), "run 20", (0, "RBS"), (0, "RCP")])
+    got = r.resps()
+    assert [c for _, c, _ in got] == [178, 180, 184, 2, ERR_LOGICAL, 4, 4, 5, 184, 2, 125, 116]
+    err = got[4][2]
+    assert has(err, "encoder_f") and has(err, "logo_f") and err & 0xFF == MODE["disable"]
+    assert not has(got[-2][2], "encoder_f") and has(got[-2][2], "init")
+    assert rcp(r) == [5000]
+
+
+def test_missing_vme_encoder_reported_once_and_again_when_enabled():
+    # no board at the address: a bus error in every tick
+    r = run([(0, "UWET", 3), (0, "UWEA", 0x80C000), (0, "INIT"), "run 30", (0, "RBS"), "run 30",
+             (0, "C"), "run 30", (0, "RBS"), "run 30", (0, "ME"), "run 30", (0, "E"), "run 30",
+             (0, "RBS"), "run 30", (0, "C"), "run 30", (0, "DEINIT"), "run 30", (0, "RBS")])
+    got = r.resps()
+    assert [c for _, c, _ in got] == [178, 180, 2, ERR_LOGICAL, 4, 125, 52, 3, ERR_LOGICAL, 4, 5, 125]
+    assert has(got[3][2], "encoder_f")
+    assert not has(got[5][2], "encoder_f")             # acknowledged, not raised again while disabled
+    assert has(got[8][2], "encoder_f")                 # enabled again: the next failure counts
+    assert got[8][2] & 0xFF == MODE["disable"]
+    assert not has(got[-1][2], "init")
+
+
+def test_encoder_error_over_the_serial_line_can_be_acknowledged():
+    # a serial host needs ~21 ms per telegram: with the error raised every tick
+    # it never got C and DEINIT through
+    lines = ["send 0 UWET 3", "send 0 UWEA 0x80C000", "send 0 INIT", "run 20"]
+    for mn in ("RBS", "C", "DEINIT", "RBS"):
+        lines += ["tx-msg 0 %s" % mn, "run 60"]
+    r = run(lines)
+    got = [m[1] for m in parse(rx_bytes(r))]
+    assert got == [ERR_LOGICAL, 4, 5, 125]
