@@ -38,10 +38,14 @@ static uint32_t gray_to_binary(uint32_t g)
 
 /* ---- what INIT prepares for the tick (measure_init) ------------------------
  * Where an external position is read, validated once at INIT so that
- * read_raw() never touches any other address (whatever <ea> holds later). */
+ * read_raw() never touches any other address (whatever <ea> holds later),
+ * and the counter range in force, so that the tick needs no division. */
 enum { EXT_NONE, EXT_DPRAM, EXT_VME16, EXT_VME32 };
 typedef struct {
     uint32_t addr;      /* EXT_DPRAM: offset of the value; EXT_VME*: window address of the MSW */
+    uint32_t lim;       /* the largest valid value: <ec> - 1, or 2^<eb> - 1 */
+    int32_t range;      /* relative modulo <ec> when <ec> < 2^<eb>, else 0 (2^<eb>: delta_eb) */
+    int32_t half;       /* range / 2 */
     uint16_t page;      /* EXT_VME*: VME_PAGE, A23-A20 */
     uint8_t path;       /* EXT_*; EXT_NONE for internal systems and a refused <ea> */
     uint8_t failed;     /* an encoder error was raised and the axis has not run since (6.3.8) */
@@ -170,25 +174,34 @@ void measure_axis(unsigned n)
         d = (int32_t)((raw - x->counter) << 8) >> 8;
         x->raw = x->counter = raw;
     } else {
+        meas_cfg_t *c = &mc[n];
         uint32_t raw;
         if (x->mode != M_DISABLE)
-            mc[n].failed = 0;                           /* the axis runs: a failure counts again */
+            c->failed = 0;                              /* the axis runs: a failure counts again */
         if (read_raw(n, &raw)) {
             encoder_error(n);
             return;
         }
-        int32_t et = PAR(n, ET), eb = PAR(n, EB), ec = PAR(n, EC);
+        int32_t et = PAR(n, ET), eb = PAR(n, EB);
         raw &= eb_mask(eb);
+        if (raw > c->lim) {                             /* beyond <ec> (4.4.2.1, 6.3.8) */
+            x->raw = raw;                               /* RED shows what was read */
+            encoder_error(n);
+            return;
+        }
         if (et == 2 || et == 4) {                       /* absolute */
-            if (ec > 0 && raw >= (uint32_t)ec) {
-                encoder_error(n);
-                return;
-            }
-            d = (int32_t)raw - x->meas;
 #if MAC4_CARD == MAC4_CARD_STP
-            d = (int32_t)raw - stp_counts(n);           /* in increments, converted below */
+            d = (int32_t)(raw - (uint32_t)stp_counts(n));   /* in increments, converted below */
+#else
+            d = (int32_t)(raw - (uint32_t)x->meas);
 #endif
-        } else {                                        /* relative */
+        } else if (c->range) {                          /* relative, the counter wraps at <ec> */
+            d = (int32_t)(raw - x->counter);            /* |true delta| < <ec>/2 per tick */
+            if (d > c->half)
+                d -= c->range;
+            else if (d < -c->half)
+                d += c->range;
+        } else {                                        /* relative, wraps at 2^<eb> */
             d = delta_eb(raw, x->counter, eb);
         }
         x->raw = raw;
@@ -215,19 +228,24 @@ void measure_axis(unsigned n)
 void measure_init(unsigned n)
 {
     axis_t *x = &axes[n];
+    meas_cfg_t *c = &mc[n];
     int32_t et = PAR(n, ET);
     if (et <= 2) {                                      /* internal: table 4.3 "def." */
         uint32_t reg = (MAC4_CARD == MAC4_CARD_SSI) ? AX_REG(n, AX_SSI_HI) : AX_REG(n, AX_CNT_HI);
-        int32_t eb = 24;
         par_w[P_EA][n] = par_a[P_EA][n] = (int32_t)(reg & 0xFFFFFFu);
-        par_w[P_EB][n] = par_a[P_EB][n] = eb;
-        par_w[P_EC][n] = par_a[P_EC][n] = (int32_t)1 << eb;
+        par_w[P_EB][n] = par_a[P_EB][n] = 24;
+        par_w[P_EC][n] = par_a[P_EC][n] = (int32_t)1 << 24;
     }
+    int32_t eb = PAR(n, EB), ec = PAR(n, EC);
+    /* the range in force: <ec>, or 2^<eb> for 0 or anything larger */
+    uint32_t lim = eb_mask(eb);
+    if (ec > 0 && (uint32_t)ec - 1u < lim)
+        lim = (uint32_t)ec - 1u;
+    c->lim = lim;
+    c->range = lim < eb_mask(eb) ? (int32_t)(lim + 1u) : 0;
+    c->half = c->range >> 1;
     /* where an external position is read; cmd.c refused INIT otherwise */
     uint32_t ea = (uint32_t)PAR(n, EA);
-    meas_cfg_t *c = &mc[n];
-    int32_t eb = PAR(n, EB);
-    c->failed = 0;
     c->path = EXT_NONE;                                 /* read_raw() fails: encoder error */
     if (et >= 3 && measure_ea_ok(ea, eb)) {
         if (ea < DPRAM_SIZE) {
@@ -239,6 +257,7 @@ void measure_init(unsigned n)
             c->addr = VME_WIN_BASE + (ea & (VME_WIN_SIZE - 1u));
         }
     }
+    c->failed = 0;
     /* A repeated INIT restarts a relative measurement at 0 (4.9). */
     x->meas = 0;
     x->vel = 0;
@@ -246,7 +265,7 @@ void measure_init(unsigned n)
         hal_wr16(AX_REG(n, AX_SSI_START), 1);
     uint32_t raw;
     if (read_raw(n, &raw) == 0) {
-        raw &= eb_mask(PAR(n, EB));
+        raw &= eb_mask(eb);
         x->counter = x->raw = raw;
         if (et == 2 || et == 4)
             x->meas = (int32_t)raw;

@@ -154,3 +154,49 @@ def test_encoder_error_over_the_serial_line_can_be_acknowledged():
     r = run(lines)
     got = [m[1] for m in parse(rx_bytes(r))]
     assert got == [ERR_LOGICAL, 4, 5, 125]
+
+
+# ---- K3: relative measurement modulo <ec> ------------------------------------------
+def dpram_values(values, et=3, ec=1000, eb=None):
+    # STP: <ms> = 4 <es>, one step per increment (4.4.2.3)
+    cmds = [(0, "UWET", et), (0, "UWEA", 0x330A), (0, "UWEC", ec), (0, "UWMS", 2000), (0, "C")]
+    cmds += [(0, "UWEB", eb)] if eb else []
+    cmds += ["poke32 0x330A %d" % values[0], "poke16 0x3308 0x8000", (0, "INIT"), "run 10", (0, "RCP"),
+             "run 10"]
+    for v in values[1:]:
+        cmds += ["poke32 0x330A %d" % v, "poke16 0x3308 0x8000", "run 10", (0, "RCP"), "run 10"]
+    return cmds
+
+
+@pytest.mark.parametrize("card", CARDS)
+def test_relative_counter_wraps_at_ec(card):
+    r = run(dpram_values([990, 5, 400, 700, 995, 990, 5]), card)
+    assert rcp(r) == [0, 15, 410, 710, 1005, 1000, 1015]
+    r = run(dpram_values([5, 990, 600, 300, 2, 998]), card)
+    assert rcp(r) == [0, -15, -405, -705, -1003, -1007]
+
+
+def test_relative_ec_power_of_two_below_2_eb():
+    r = run(dpram_values([1020, 3], ec=1024, eb=24))
+    assert rcp(r) == [0, 7]
+
+
+def test_relative_value_outside_ec_is_an_encoder_error():
+    r = run(dpram_values([990, 1000]) + [(0, "RBS")], settle=20)
+    got = r.resps()
+    assert [c for _, c, _ in got][-2:] == [ERR_LOGICAL, 125] and has(got[-1][2], "encoder_f")
+
+
+def test_relative_vme_encoder_turning_through_its_wrap():
+    # the board counts 0..999 per output revolution; test mode drives the motor
+    # open loop for several revolutions each way
+    cmds = ["vme-encoder $80C000 0 bits 16 res 1000 turns 1", (0, "UWET", 3), (0, "UWEA", 0x80C000),
+            (0, "UWEB", 16), (0, "UWEC", 1000), (0, "INIT"), (0, "WDA", 1500), (0, "MT"), (0, "E")]
+    for da, ms in ((1500, 1500), (-1500, 3000)):
+        cmds += [(0, "WDA", da), "run %d" % ms, (0, "RCP"), "run 2", "plant 0"]
+    r = run(cmds)
+    revs = plant_rev(r)
+    assert revs[0] > 3 and revs[1] < -3                # several wraps both ways
+    for pos, rev in zip(rcp(r), revs):
+        assert abs(pos - rev * 1000) < 40              # the shaft moves on while RCP is answered
+    assert ERR_LOGICAL not in codes(r)
