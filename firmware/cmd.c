@@ -18,6 +18,7 @@
 #include "params.h"
 #include "serial.h"
 #include "motion.h"
+#include "measure.h"
 #if MAC4_CARD == MAC4_CARD_STP
 #include "stepper.h"
 #endif
@@ -148,6 +149,10 @@ static int write_param(unsigned a, unsigned p, int32_t v)
         if (!et_ok(v))
             return ERR_LIMIT;
         break;
+    case P_EA:
+        if (v != 0 && !measure_ea_ok((uint32_t)v, 0))
+            return ERR_LIMIT;     /* odd, or DPRAM outside the host's part (0: not set yet) */
+        break;
     case P_EC: {
         int32_t sh = PAR_W(a, SH), et = PAR_W(a, ET);
         if (sh != 1 && (et == 2 || et == 4))
@@ -275,6 +280,8 @@ static int do_init(unsigned a)
         return ERR_LIMIT;                         /* 4.3.1.1: <lp> > <ln> */
     if (!et_ok(PAR_W(a, ET)))
         return ERR_LIMIT;
+    if (PAR_W(a, ET) >= 3 && !measure_ea_ok((uint32_t)PAR_W(a, EA), PAR_W(a, EB)))
+        return ERR_LIMIT;                         /* external encoder: no usable <ea> for this <eb> */
     params_activate(a, PK_SYS);
     params_activate(a, PK_MODE);
     axis_init_measurement(a);

@@ -36,11 +36,60 @@ static uint32_t gray_to_binary(uint32_t g)
     return g;
 }
 
+/* ---- what INIT prepares for the tick (measure_init) ------------------------
+ * Where an external position is read, validated once at INIT so that
+ * read_raw() never touches any other address (whatever <ea> holds later),
+ * and the counter range in force, so that the tick needs no division. */
+enum { EXT_NONE, EXT_DPRAM, EXT_VME16, EXT_VME32 };
+typedef struct {
+    uint32_t addr;      /* EXT_DPRAM: offset of the value; EXT_VME*: window address of the MSW */
+    uint32_t lim;       /* the largest valid value: <ec> - 1, or 2^<eb> - 1 */
+    int32_t range;      /* relative modulo <ec> when <ec> < 2^<eb>, else 0 (2^<eb>: delta_eb) */
+    int32_t half;       /* range / 2 */
+    uint16_t page;      /* EXT_VME*: VME_PAGE, A23-A20 */
+    uint8_t path;       /* EXT_*; EXT_NONE for internal systems and a refused <ea> */
+    uint8_t failed;     /* an encoder error was raised and the axis has not run since (6.3.8) */
+} meas_cfg_t;
+static meas_cfg_t mc[MAC4_NAXES];
+
+/* The host's own DPRAM after manual table 3.1 (docs/memory-map.md): per
+ * axis the flag field and counter content from $3308 + n*$400 to the end of
+ * that axis' block, and the unused $4900-$FFEE.  Not the vector table and
+ * monitor area, the axis data the card publishes, the card data block at
+ * $4000, the stop bits or the queues. */
+#define DP_FREE_START (DP_RSP_QUEUE + 0x100u)
+
+static int dp_host_owned(uint32_t lo, uint32_t hi)          /* the bytes [lo, hi) */
+{
+    if (lo >= DP_FREE_START && hi <= DP_HOST_END + 1u)
+        return 1;
+    for (unsigned n = 0; n < MAC4_NAXES; n++)
+        if (lo >= DP_EXT_FLAG(n) && hi <= DP_AXIS_DATA(n) + DP_AXIS_STRIDE)
+            return 1;
+    return 0;
+}
+
+/* May an external position be read at <ea> with <eb> significant bits
+ * (<et> 3/4, table 4.3, 3.5.2)?  Even (68000 word accesses); below $10000
+ * a DPRAM offset whose flag word at <ea>-2 and 32-bit value lie in the
+ * host's DPRAM; otherwise a VMEbus A24 address, and with <eb> > 16 the LSW
+ * at <ea>+2 in the same 1 MiB page of the master window.  eb 0: the width
+ * is not known yet (UWEA). */
+int measure_ea_ok(uint32_t ea, int32_t eb)
+{
+    if (ea & 1u)
+        return 0;
+    if (ea < DPRAM_SIZE)
+        return ea >= 2u && dp_host_owned(ea - 2u, ea + 4u);
+    if (ea > 0xFFFFFFu)
+        return 0;
+    return eb <= 16 || (ea & (VME_WIN_SIZE - 1u)) <= VME_WIN_SIZE - 4u;
+}
+
 /* Returns 0 and the raw value, or -1 when the measurement failed. */
 static int read_raw(unsigned n, uint32_t *raw)
 {
     int32_t et = PAR(n, ET);
-    uint32_t ea = (uint32_t)PAR(n, EA);
     if (et <= 1 && MAC4_CARD != MAC4_CARD_SSI) {
         uint32_t hi = hal_rd16(AX_REG(n, AX_CNT_HI));   /* latches LO */
         *raw = (hi << 16) | hal_rd16(AX_REG(n, AX_CNT_LO));
@@ -58,29 +107,47 @@ static int read_raw(unsigned n, uint32_t *raw)
         *raw = v;
         return 0;
     }
-    if (ea < DPRAM_SIZE) {                              /* external, via the DPRAM (3.5.2) */
-        if (hal_rd16(ea - 2) & 0x8000u) {
-            axes[n].raw = hal_rd32(ea);
-            hal_wr16(ea - 2, 0);                        /* the host may write the next one */
+    const meas_cfg_t *c = &mc[n];
+    uint32_t v;
+    switch (c->path) {
+    case EXT_DPRAM:                                     /* external, via the DPRAM (3.5.2) */
+        if (hal_rd16(c->addr - 2u) & 0x8000u) {
+            axes[n].raw = hal_rd32(c->addr);
+            hal_wr16(c->addr - 2u, 0);                  /* the host may write the next one */
             vme_irq((uint8_t)PAR(n, IRQ6));
         }
         *raw = axes[n].raw;
         return 0;
+    case EXT_VME16:                                     /* external over the VMEbus, A24 window */
+        hal_wr16(VME_PAGE, c->page);
+        v = hal_rd16(c->addr);
+        break;
+    case EXT_VME32: {                                   /* LSW at <ea>+2 first (4.4.2.1) */
+        hal_wr16(VME_PAGE, c->page);
+        uint32_t lsw = hal_rd16(c->addr + 2u);
+        v = ((uint32_t)hal_rd16(c->addr) << 16) | lsw;
+        break;
     }
-    /* external over the VMEbus, through the A24 master window */
-    hal_wr16(VME_PAGE, (uint16_t)(ea >> 20));
-    uint32_t w = VME_WIN_BASE + (ea & 0xFFFFFu);
-    uint32_t v;
-    if (PAR(n, EB) <= 16) {
-        v = hal_rd16(w);
-    } else {                                            /* LSW at <ea>+2 first (4.4.2.1) */
-        uint32_t lsw = hal_rd16(w + 2);
-        v = ((uint32_t)hal_rd16(w) << 16) | lsw;
+    default:
+        return -1;                                      /* no address INIT accepted: touch nothing */
     }
     if (hal_rd16(VME_STATUS) & VME_ST_BERR)
         return -1;
     *raw = v;
     return 0;
+}
+
+/* 6.3.8: encoder_f and logo_f, 163 for the next command, disabled without a
+ * ramp.  Once: while the axis stays disabled after it, a measurement that
+ * keeps failing raises nothing more, so C, DEINIT and new parameters get
+ * through; enabled again, the next failure raises it again. */
+static void encoder_error(unsigned n)
+{
+    if (mc[n].failed)
+        return;
+    mc[n].failed = 1;
+    axis_error(n, UB(ENCODER_F) | UB(LOGO_F), ERR_LOGICAL);
+    axis_disable(n);                                    /* without a ramp */
 }
 
 void measure_axis(unsigned n)
@@ -97,25 +164,34 @@ void measure_axis(unsigned n)
         d = (int32_t)((raw - x->counter) << 8) >> 8;
         x->raw = x->counter = raw;
     } else {
+        meas_cfg_t *c = &mc[n];
         uint32_t raw;
+        if (x->mode != M_DISABLE)
+            c->failed = 0;                              /* the axis runs: a failure counts again */
         if (read_raw(n, &raw)) {
-            axis_error(n, UB(ENCODER_F) | UB(LOGO_F), ERR_LOGICAL);
-            axis_disable(n);                            /* 6.3.8: without a ramp */
+            encoder_error(n);
             return;
         }
-        int32_t et = PAR(n, ET), eb = PAR(n, EB), ec = PAR(n, EC);
+        int32_t et = PAR(n, ET), eb = PAR(n, EB);
         raw &= eb_mask(eb);
+        if (raw > c->lim) {                             /* beyond <ec> (4.4.2.1, 6.3.8) */
+            x->raw = raw;                               /* RED shows what was read */
+            encoder_error(n);
+            return;
+        }
         if (et == 2 || et == 4) {                       /* absolute */
-            if (ec > 0 && raw >= (uint32_t)ec) {
-                axis_error(n, UB(ENCODER_F) | UB(LOGO_F), ERR_LOGICAL);
-                axis_disable(n);
-                return;
-            }
-            d = (int32_t)raw - x->meas;
 #if MAC4_CARD == MAC4_CARD_STP
-            d = (int32_t)raw - stp_counts(n);           /* in increments, converted below */
+            d = (int32_t)(raw - (uint32_t)stp_counts(n));   /* in increments, converted below */
+#else
+            d = (int32_t)(raw - (uint32_t)x->meas);
 #endif
-        } else {                                        /* relative */
+        } else if (c->range) {                          /* relative, the counter wraps at <ec> */
+            d = (int32_t)(raw - x->counter);            /* |true delta| < <ec>/2 per tick */
+            if (d > c->half)
+                d -= c->range;
+            else if (d < -c->half)
+                d += c->range;
+        } else {                                        /* relative, wraps at 2^<eb> */
             d = delta_eb(raw, x->counter, eb);
         }
         x->raw = raw;
@@ -142,14 +218,36 @@ void measure_axis(unsigned n)
 void measure_init(unsigned n)
 {
     axis_t *x = &axes[n];
+    meas_cfg_t *c = &mc[n];
     int32_t et = PAR(n, ET);
     if (et <= 2) {                                      /* internal: table 4.3 "def." */
-        uint32_t ea = (MAC4_CARD == MAC4_CARD_SSI) ? AX_REG(n, AX_SSI_HI) : AX_REG(n, AX_CNT_HI);
-        int32_t eb = 24;
-        par_w[P_EA][n] = par_a[P_EA][n] = (int32_t)(ea & 0xFFFFFFu);
-        par_w[P_EB][n] = par_a[P_EB][n] = eb;
-        par_w[P_EC][n] = par_a[P_EC][n] = (int32_t)1 << eb;
+        uint32_t reg = (MAC4_CARD == MAC4_CARD_SSI) ? AX_REG(n, AX_SSI_HI) : AX_REG(n, AX_CNT_HI);
+        par_w[P_EA][n] = par_a[P_EA][n] = (int32_t)(reg & 0xFFFFFFu);
+        par_w[P_EB][n] = par_a[P_EB][n] = 24;
+        par_w[P_EC][n] = par_a[P_EC][n] = (int32_t)1 << 24;
     }
+    int32_t eb = PAR(n, EB), ec = PAR(n, EC);
+    /* the range in force: <ec>, or 2^<eb> for 0 or anything larger */
+    uint32_t lim = eb_mask(eb);
+    if (ec > 0 && (uint32_t)ec - 1u < lim)
+        lim = (uint32_t)ec - 1u;
+    c->lim = lim;
+    c->range = lim < eb_mask(eb) ? (int32_t)(lim + 1u) : 0;
+    c->half = c->range >> 1;
+    /* where an external position is read; cmd.c refused INIT otherwise */
+    uint32_t ea = (uint32_t)PAR(n, EA);
+    c->path = EXT_NONE;                                 /* read_raw() fails: encoder error */
+    if (et >= 3 && measure_ea_ok(ea, eb)) {
+        if (ea < DPRAM_SIZE) {
+            c->path = EXT_DPRAM;
+            c->addr = ea;
+        } else {
+            c->path = eb <= 16 ? EXT_VME16 : EXT_VME32;
+            c->page = (uint16_t)(ea >> 20);
+            c->addr = VME_WIN_BASE + (ea & (VME_WIN_SIZE - 1u));
+        }
+    }
+    c->failed = 0;
     /* A repeated INIT restarts a relative measurement at 0 (4.9). */
     x->meas = 0;
     x->vel = 0;
@@ -157,7 +255,7 @@ void measure_init(unsigned n)
         hal_wr16(AX_REG(n, AX_SSI_START), 1);
     uint32_t raw;
     if (read_raw(n, &raw) == 0) {
-        raw &= eb_mask(PAR(n, EB));
+        raw &= eb_mask(eb);
         x->counter = x->raw = raw;
         if (et == 2 || et == 4)
             x->meas = (int32_t)raw;

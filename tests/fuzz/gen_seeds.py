@@ -216,26 +216,29 @@ VEC_EA = next(a for a in range(4, 0x400, 2) if (a * 131 + 7) & 0x80) + 2
 # name: (target, cards, input).  Each fails with FUZZ_STRICT=1 while its bug
 # is open; fixed, it belongs in the corpus.
 KNOWN = {
-    # K1: <ea> unchecked: ET 3 with the default <ea> 0 reads and writes $FFFFFE
-    "K1-ea-zero": ("queue", "inc ssi stp", q_send(0, "UWET", 3) + q_send(0, "INIT") + q_passes(8)),
-    # K1: an odd <ea>: address error on the 68000
-    "K1-ea-odd": ("cmd", "inc ssi stp", c_cmd(0, "UWET", 3) + c_cmd(0, "UWEA", 0x3301) + c_cmd(0, "INIT") + c_run(8)),
-    # K1: <ea> inside the command queue: the card writes its header
-    "K1-ea-in-queue": ("queue", "inc ssi stp", q_send(0, 0x8000) + q_send(0, "C") + q_send(0, "UWET", 3) + q_send(0, "UWEA", 0x471C)
-                       + q_send(0, "INIT") + q_passes(16)),
-    # K1: <ea> below $3002: the flag word read (and zeroed) is in the live
-    # vector table (here the low word of vector 1, $8xxx in the emulator's
-    # power-on pattern; on the card any handler above $108000)
-    "K1-ea-in-vectors": ("cmd", "inc ssi stp", c_cmd(0, "UWET", 3) + c_cmd(0, "UWEA", VEC_EA) + c_cmd(0, "INIT")
-                         + c_run(16)),
-    # K2: an external VME encoder with no board answering: bus error every
-    # tick, 163 to every command of the axis (a VME host can slip a C and a
-    # DEINIT in between two ticks, a serial host cannot)
-    "K2-vme-encoder-missing": ("serial", "inc ssi stp", s_cmd(0, "UWET", 3) + s_cmd(0, "UWEA", 0xF01000)
-                               + s_cmd(0, "INIT") + s_cmd(0, "C") + s_cmd(0, "DEINIT")),
     # K3: position tracking to a far position: the setpoint interpolation
     # overflows 32 bits (undefined behaviour in C)
     "K3-setpoint-overflow": ("cmd", "inc ssi", c_mode(1, 62) + c_cmd(1, "WAT", 0xC2212A2B) + c_run(200)),
+}
+
+# Reproducers of bugs fixed since: seeds of their target now (corpus/TARGET/
+# seed-NAME, replayed on every card), so that they stay fixed.
+FIXED = {
+    # K1: <ea> unchecked: ET 3 with the default <ea> 0 read and wrote $FFFFFE
+    "K1-ea-zero": ("queue", q_send(0, "UWET", 3) + q_send(0, "INIT") + q_passes(8)),
+    # K1: an odd <ea>: address error on the 68000
+    "K1-ea-odd": ("cmd", c_cmd(0, "UWET", 3) + c_cmd(0, "UWEA", 0x3301) + c_cmd(0, "INIT") + c_run(8)),
+    # K1: <ea> inside the command queue: the card wrote its header
+    "K1-ea-in-queue": ("queue", q_send(0, 0x8000) + q_send(0, "C") + q_send(0, "UWET", 3) + q_send(0, "UWEA", 0x471C)
+                       + q_send(0, "INIT") + q_passes(16)),
+    # K1: <ea> below $3002: the flag word read (and zeroed) was in the live
+    # vector table (here the low word of vector 1, $8xxx in the emulator's
+    # power-on pattern; on the card any handler above $108000)
+    "K1-ea-in-vectors": ("cmd", c_cmd(0, "UWET", 3) + c_cmd(0, "UWEA", VEC_EA) + c_cmd(0, "INIT") + c_run(16)),
+    # K2: an external VME encoder with no board answering: a bus error every
+    # tick was reported again every tick, 163 to every command of the axis
+    "K2-vme-encoder-missing": ("serial", s_cmd(0, "UWET", 3) + s_cmd(0, "UWEA", 0xF01000)
+                               + s_cmd(0, "INIT") + s_cmd(0, "C") + s_cmd(0, "DEINIT")),
 }
 
 
@@ -264,8 +267,12 @@ def write(target, seeds):
     print("%s: %d seeds" % (d, len(seeds)))
 
 
+def with_fixed(target, seeds):
+    return dict(seeds, **{name: data for name, (t, data) in FIXED.items() if t == target})
+
+
 if __name__ == "__main__":
-    write("queue", QUEUE)
-    write("serial", SERIAL)
-    write("cmd", CMD)
+    write("queue", with_fixed("queue", QUEUE))
+    write("serial", with_fixed("serial", SERIAL))
+    write("cmd", with_fixed("cmd", CMD))
     write_known()

@@ -1,0 +1,202 @@
+"""Position measurement systems (manual 4.4, table 4.3, 3.5.2, 6.3.8) on the
+EPROM images: the external encoder address <ea>, encoder errors, the counter
+range <ec> in relative and absolute mode, the automatic values of the
+internal systems.  docs/interpretations.md, "Position measurement"."""
+import re
+
+import pytest
+
+from conftest import CARDS
+from mac4 import BIT, MODE, run, ubits
+from test_serial import parse, rx_bytes
+
+ERR_LIMIT, ERR_LOGICAL = 162, 163
+
+
+def codes(r):
+    return [c for _, c, _ in r.resps()]
+
+
+def signed(v):
+    return v - (1 << 32) if v & 0x80000000 else v
+
+
+def rcp(r):
+    return [signed(p) for _, c, p in r.resps() if c == 116]
+
+
+def has(st, name):
+    return bool(st & (1 << BIT["user"][name]))
+
+
+def plant_rev(r, n=0):
+    return [float(m.group(1)) for m in map(re.compile(r"rev=(-?[\d.]+)").search, r.grep(r"^plant %d " % n))]
+
+
+def vme_value(r):
+    return [int(m.group(1)) for m in map(re.compile(r"value=(\d+)").search, r.grep(r"^vme-encoder "))]
+
+
+# ---- K1: <ea> of an external encoder ------------------------------------------------
+@pytest.mark.parametrize("card", CARDS)
+@pytest.mark.parametrize("et", [3, 4])
+def test_init_refuses_the_default_ea(card, et):
+    # <ea> = 0 (the default) once read $FFFFFE and wrote it back: 162 at INIT now
+    r = run([(0, "UWET", et), (0, "INIT"), "run 20", (0, "RBS"), (0, "C"),
+             (0, "UWEA", 0x330A), (0, "INIT"), "run 20", (0, "RBS")], card)
+    got = r.resps()
+    assert [c for _, c, _ in got] == [178, ERR_LIMIT, 125, 4, 180, 2, 125]
+    assert got[1][2] & ubits("limit_f") and not has(got[2][2], "init")
+    assert has(got[-1][2], "init") and not has(got[-1][2], "encoder_f")
+    assert "F." not in r.displays()
+
+
+# <ea> the host must not be given: odd (an address error on the 68000), in the
+# vector table and monitor area, in the card's axis data, its data block, the
+# stop bits, the queues, past $FFEE, or an A24 address past $FFFFFE
+BAD_EA = [1, 0x3301, 0x330B, 0x80C001, 0xFFFFFF,
+          2, 0x0102, 0x0400, 0x2FFE, 0x3000, 0x3002, 0x3020, 0x3308, 0x36FE, 0x3708,
+          0x33FE,                                  # value crosses into axis 2's block
+          0x4002, 0x45FE, 0x4600, 0x4602,          # card data, stop bits
+          0x4700, 0x4704, 0x4718, 0x4800, 0x4818, 0x48FE, 0x4900,   # queues
+          0xFFEC, 0xFFFE]
+GOOD_EA = [0x330A, 0x370A, 0x3B0A, 0x3F0A, 0x330C, 0x33FA, 0x3F0C, 0x4902, 0x8000, 0xFFEA,
+           0x10000, 0x80C000, 0xFFFFFE]
+
+
+@pytest.mark.parametrize("card", CARDS)
+def test_uwea_refuses_addresses_the_card_must_not_touch(card):
+    cmds = []
+    for ea in BAD_EA:
+        cmds += [(0, "UWEA", ea), (0, "C")]
+    for ea in GOOD_EA:
+        cmds += [(0, "UWEA", ea), (0, "UREA")]
+    got = run(cmds, card, settle=20).resps()
+    assert [c for _, c, _ in got[:2 * len(BAD_EA)]] == [ERR_LIMIT, 4] * len(BAD_EA)
+    rest = got[2 * len(BAD_EA):]
+    assert [c for _, c, _ in rest] == [180, 181] * len(GOOD_EA)
+    assert [p for _, c, p in rest if c == 181] == GOOD_EA
+
+
+def test_odd_ea_no_longer_halts_the_card():
+    # the audit's reproducer: UWET 3, UWEA $3301, INIT gave an address error and "F."
+    r = run([(0, "UWET", 3), (0, "UWEA", 0x3301), (0, "C"), (0, "INIT"), "run 20", (0, "C"), (0, "VER")])
+    assert codes(r) == [178, ERR_LIMIT, 4, ERR_LIMIT, 4, 7]
+    assert "F." not in r.displays()
+
+
+def peeks(r, addr):
+    return [int(l.split()[2], 16) for l in r.lines
+            if l.startswith("peek32 ") and int(l.split()[1], 16) == addr]
+
+
+def test_vector_table_and_queues_are_left_alone():
+    # a vector whose low word has bit 15 set looked like a raised interlock flag
+    # and was cleared; a DPRAM <ea> in a queue read and cleared the host's words
+    r = run(["poke16 0x1000 0x8000", (0, "UWET", 4), (0, "UWEA", 0x1002), (0, "C"), (0, "INIT"), (0, "C"),
+             (0, "UWEA", 0x4706), (0, "C"), (0, "INIT"), (0, "C"), "run 50", "peek32 0x1000", "peek32 0x4704",
+             (0, "VER")])
+    assert codes(r) == [178, ERR_LIMIT, 4, ERR_LIMIT, 4, ERR_LIMIT, 4, ERR_LIMIT, 4, 7]
+    assert peeks(r, 0x1000)[0] >> 16 == 0x8000          # the monitor word with bit 15 is still there
+    assert peeks(r, 0x4704)[0] != 0                     # the command queue's front is the host's
+
+
+def test_vme_two_words_must_not_cross_the_window_page():
+    # <eb> > 16: MSW at <ea>, LSW at <ea>+2 (4.4.2.1); $8FFFFE+2 is in the next
+    # 1 MiB page of the master window, outside what VME_PAGE maps
+    r = run(["vme-encoder $8FFFFE 0 bits 16", (0, "UWET", 4), (0, "UWEA", 0x8FFFFE), (0, "UWEB", 24),
+             (0, "INIT"), (0, "C"), (0, "UWEB", 16), (0, "INIT"), "run 20", (0, "RBS")])
+    got = r.resps()
+    assert [c for _, c, _ in got] == [178, 180, 182, ERR_LIMIT, 4, 182, 2, 125]
+    assert not has(got[-1][2], "encoder_f")
+
+
+def test_internal_systems_ignore_ea():
+    # <et> 1: the counter register, whatever <ea> says (table 4.3 "def.")
+    r = run([(0, "UWEA", 0x80C000), (0, "INIT"), "run 5", "counter 0 1234", "run 10", (0, "RCP")])
+    assert codes(r) == [180, 2, 116] and rcp(r) == [1234]
+
+
+# ---- K2: an encoder error is raised once --------------------------------------------
+def test_absolute_value_beyond_ec_is_reported_once_then_the_host_recovers():
+    r = run([(0, "UWET", 4), (0, "UWEA", 0x330A), (0, "UWEC", 1000),
+             "poke32 0x330A 5000", "poke16 0x3308 0x8000", (0, "INIT"), "run 20",
+             (0, "RBS"), "run 20", (0, "C"), "run 20", (0, "C"), "run 20", (0, "DEINIT"), "run 20",
+             (0, "UWEC", 10000), "run 20", (0, "INIT"), "run 20", (0, "RBS"), (0, "RCP")])
+    got = r.resps()
+    assert [c for _, c, _ in got] == [178, 180, 184, 2, ERR_LOGICAL, 4, 4, 5, 184, 2, 125, 116]
+    err = got[4][2]
+    assert has(err, "encoder_f") and has(err, "logo_f") and err & 0xFF == MODE["disable"]
+    assert not has(got[-2][2], "encoder_f") and has(got[-2][2], "init")
+    assert rcp(r) == [5000]
+
+
+def test_missing_vme_encoder_reported_once_and_again_when_enabled():
+    # no board at the address: a bus error in every tick
+    r = run([(0, "UWET", 3), (0, "UWEA", 0x80C000), (0, "INIT"), "run 30", (0, "RBS"), "run 30",
+             (0, "C"), "run 30", (0, "RBS"), "run 30", (0, "ME"), "run 30", (0, "E"), "run 30",
+             (0, "RBS"), "run 30", (0, "C"), "run 30", (0, "DEINIT"), "run 30", (0, "RBS")])
+    got = r.resps()
+    assert [c for _, c, _ in got] == [178, 180, 2, ERR_LOGICAL, 4, 125, 52, 3, ERR_LOGICAL, 4, 5, 125]
+    assert has(got[3][2], "encoder_f")
+    assert not has(got[5][2], "encoder_f")             # acknowledged, not raised again while disabled
+    assert has(got[8][2], "encoder_f")                 # enabled again: the next failure counts
+    assert got[8][2] & 0xFF == MODE["disable"]
+    assert not has(got[-1][2], "init")
+
+
+def test_encoder_error_over_the_serial_line_can_be_acknowledged():
+    # a serial host needs ~21 ms per telegram: with the error raised every tick
+    # it never got C and DEINIT through
+    lines = ["send 0 UWET 3", "send 0 UWEA 0x80C000", "send 0 INIT", "run 20"]
+    for mn in ("RBS", "C", "DEINIT", "RBS"):
+        lines += ["tx-msg 0 %s" % mn, "run 60"]
+    r = run(lines)
+    got = [m[1] for m in parse(rx_bytes(r))]
+    assert got == [ERR_LOGICAL, 4, 5, 125]
+
+
+# ---- K3: relative measurement modulo <ec> ------------------------------------------
+def dpram_values(values, et=3, ec=1000, eb=None):
+    # STP: <ms> = 4 <es>, one step per increment (4.4.2.3)
+    cmds = [(0, "UWET", et), (0, "UWEA", 0x330A), (0, "UWEC", ec), (0, "UWMS", 2000), (0, "C")]
+    cmds += [(0, "UWEB", eb)] if eb else []
+    cmds += ["poke32 0x330A %d" % values[0], "poke16 0x3308 0x8000", (0, "INIT"), "run 10", (0, "RCP"),
+             "run 10"]
+    for v in values[1:]:
+        cmds += ["poke32 0x330A %d" % v, "poke16 0x3308 0x8000", "run 10", (0, "RCP"), "run 10"]
+    return cmds
+
+
+@pytest.mark.parametrize("card", CARDS)
+def test_relative_counter_wraps_at_ec(card):
+    r = run(dpram_values([990, 5, 400, 700, 995, 990, 5]), card)
+    assert rcp(r) == [0, 15, 410, 710, 1005, 1000, 1015]
+    r = run(dpram_values([5, 990, 600, 300, 2, 998]), card)
+    assert rcp(r) == [0, -15, -405, -705, -1003, -1007]
+
+
+def test_relative_ec_power_of_two_below_2_eb():
+    r = run(dpram_values([1020, 3], ec=1024, eb=24))
+    assert rcp(r) == [0, 7]
+
+
+def test_relative_value_outside_ec_is_an_encoder_error():
+    r = run(dpram_values([990, 1000]) + [(0, "RBS")], settle=20)
+    got = r.resps()
+    assert [c for _, c, _ in got][-2:] == [ERR_LOGICAL, 125] and has(got[-1][2], "encoder_f")
+
+
+def test_relative_vme_encoder_turning_through_its_wrap():
+    # the board counts 0..999 per output revolution; test mode drives the motor
+    # open loop for several revolutions each way
+    cmds = ["vme-encoder $80C000 0 bits 16 res 1000 turns 1", (0, "UWET", 3), (0, "UWEA", 0x80C000),
+            (0, "UWEB", 16), (0, "UWEC", 1000), (0, "INIT"), (0, "WDA", 1500), (0, "MT"), (0, "E")]
+    for da, ms in ((1500, 1500), (-1500, 3000)):
+        cmds += [(0, "WDA", da), "run %d" % ms, (0, "RCP"), "run 2", "plant 0"]
+    r = run(cmds)
+    revs = plant_rev(r)
+    assert revs[0] > 3 and revs[1] < -3                # several wraps both ways
+    for pos, rev in zip(rcp(r), revs):
+        assert abs(pos - rev * 1000) < 40              # the shaft moves on while RCP is answered
+    assert ERR_LOGICAL not in codes(r)
