@@ -219,14 +219,25 @@ void measure_init(unsigned n)
 {
     axis_t *x = &axes[n];
     meas_cfg_t *c = &mc[n];
-    int32_t et = PAR(n, ET);
-    if (et <= 2) {                                      /* internal: table 4.3 "def." */
+    int32_t et = PAR(n, ET), eb = PAR(n, EB), ec = PAR(n, EC);
+    /* Table 4.3 "def." (docs/interpretations.md): the counter of INC/STP is
+     * 24 bits whatever was written; on the SSI board the receiver delivers
+     * 26 - <sc> bits, so <eb> is at most that, and a written <ec> limits the
+     * range (6.3.8).  Only the values in force change: UR.. reads back what
+     * the host wrote, so a later INIT derives afresh. */
+    if (et <= 2) {
         uint32_t reg = (MAC4_CARD == MAC4_CARD_SSI) ? AX_REG(n, AX_SSI_HI) : AX_REG(n, AX_CNT_HI);
-        par_w[P_EA][n] = par_a[P_EA][n] = (int32_t)(reg & 0xFFFFFFu);
-        par_w[P_EB][n] = par_a[P_EB][n] = 24;
-        par_w[P_EC][n] = par_a[P_EC][n] = (int32_t)1 << 24;
+        par_a[P_EA][n] = (int32_t)(reg & 0xFFFFFFu);
+        if (MAC4_CARD == MAC4_CARD_SSI) {
+            int32_t bits = (int32_t)SSI_CLOCKS - PAR(n, SC);
+            if (eb > bits)
+                eb = bits;
+        } else {
+            eb = 24;
+            ec = 0;
+        }
+        par_a[P_EB][n] = eb;
     }
-    int32_t eb = PAR(n, EB), ec = PAR(n, EC);
     /* the range in force: <ec>, or 2^<eb> for 0 or anything larger */
     uint32_t lim = eb_mask(eb);
     if (ec > 0 && (uint32_t)ec - 1u < lim)
@@ -234,6 +245,7 @@ void measure_init(unsigned n)
     c->lim = lim;
     c->range = lim < eb_mask(eb) ? (int32_t)(lim + 1u) : 0;
     c->half = c->range >> 1;
+    par_a[P_EC][n] = lim < (uint32_t)INT32_MAX ? (int32_t)(lim + 1u) : 0;   /* 0: 2^<eb> */
     /* where an external position is read; cmd.c refused INIT otherwise */
     uint32_t ea = (uint32_t)PAR(n, EA);
     c->path = EXT_NONE;                                 /* read_raw() fails: encoder error */

@@ -200,3 +200,74 @@ def test_relative_vme_encoder_turning_through_its_wrap():
     for pos, rev in zip(rcp(r), revs):
         assert abs(pos - rev * 1000) < 40              # the shaft moves on while RCP is answered
     assert ERR_LOGICAL not in codes(r)
+
+
+# ---- K4: automatic values of the internal systems ---------------------------------------
+def test_ssi_12_bit_relative_crossing_4095():
+    # <sc> 14 justifies a 12-bit word: <eb> in force is 12, the counter wraps at 4096
+    r = run(["plant 0 ssi bits 12 binary res 4096", "counter 0 4090", (0, "UWSC", 14), (0, "UWET", 1),
+             (0, "INIT"), "run 10", (0, "RCP"), "run 2", "counter 0 4095", "run 10", (0, "RCP"), "run 2",
+             "counter 0 2", "run 10", (0, "RCP"), "run 2", "counter 0 4093", "run 10", (0, "RCP"),
+             (0, "UREB"), (0, "UREC")], "ssi")
+    assert rcp(r) == [0, 5, 8, 3]
+    assert [p for _, c, p in r.resps() if c in (183, 185)] == [24, 0]   # read back as written
+
+
+def test_ssi_12_bit_relative_turning():
+    r = run(["plant 0 ssi bits 12 binary res 4096", (0, "UWSC", 14), (0, "UWET", 1), (0, "INIT"),
+             (0, "WDA", 1500), (0, "MT"), (0, "E"), "run 1500", (0, "RCP"), "run 2", "plant 0"], "ssi")
+    rev, = plant_rev(r)
+    pos, = rcp(r)
+    assert rev > 3 and abs(pos - rev * 4096) < 150
+
+
+def test_ssi_written_eb_narrower_than_the_word_is_honoured():
+    # 4.4.2.1: bits above <eb> are ignored
+    r = run(["plant 0 ssi bits 12 binary res 4096", "counter 0 1000", (0, "UWSC", 14), (0, "UWET", 2),
+             (0, "UWEB", 8), (0, "INIT"), "run 10", (0, "RCP"), (0, "RCT")], "ssi")
+    assert rcp(r) == [1000 & 0xFF]
+
+
+def test_inc_counter_stays_24_bits_whatever_was_written():
+    r = run([(0, "UWEB", 12), (0, "UWEC", 1000), (0, "INIT"), "run 5", "counter 0 5000", "run 10", (0, "RCP"),
+             (0, "UREB"), (0, "UREC")])
+    assert rcp(r) == [5000]
+    assert [p for _, c, p in r.resps() if c in (183, 185)] == [12, 1000]
+
+
+def test_stp_counter_stays_24_bits_whatever_was_written():
+    r = run([(0, "UWEB", 12), (0, "UWEC", 1000), (0, "INIT"), "run 20", "counter 0 5000", "run 20", (0, "RCP")],
+            "stp")
+    assert rcp(r) == [5000]
+
+
+def test_ssi_absolute_target_outside_written_ec():
+    # 6.3.3: a target outside the absolute encoder's range is a limit value error
+    r = run(["plant 0 ssi bits 12 binary res 4096", "counter 0 100", (0, "UWSC", 14), (0, "UWET", 2),
+             (0, "UWEC", 4000), (0, "INIT"), (0, "WAP", 3999), (0, "WAP", 4000), (0, "C"),
+             (0, "UWEC", 0), (0, "INIT"), (0, "WAP", 4095), (0, "WAP", 4096)], "ssi", settle=20)
+    assert codes(r) == [186, 178, 184, 2, 70, ERR_LIMIT, 4, 184, 2, 70, ERR_LIMIT]
+
+
+# ---- K5: SSI data stuck at ones ------------------------------------------------------
+def test_ssi_stuck_at_ones_outside_ec_disables_without_ramp():
+    r = run(["plant 0 ssi bits 12 binary res 4096", "counter 0 100", (0, "UWSC", 14), (0, "UWET", 2),
+             (0, "UWEC", 4000), (0, "WAA", 1), (0, "INIT"), (0, "ME"), (0, "E"), "run 20",
+             (0, "WVT", 20), (0, "MS"), (0, "E"), "run 300", "fault 0 encoder stuck1", "run 3", "outputs",
+             (0, "RBS"), (0, "RBS"), (0, "RCP"), (0, "RED")], "ssi")
+    got = r.resps()
+    err = [p for _, c, p in got if c == ERR_LOGICAL]
+    assert len(err) == 1 and has(err[0], "encoder_f") and not has(err[0], "ferr_f")
+    assert err[0] & 0xFF == MODE["disable"]
+    assert r.grep(r"^output 0 en=0 dac=0 ")         # at once: <ed> = 1 would take seconds
+    red = [p for _, c, p in got if c == 119]
+    assert red == [0xFFF]
+    assert rcp(r)[0] < 4000                           # the bad value is not taken as the position
+
+
+def test_ssi_stuck_at_ones_inside_the_range_is_no_encoder_error():
+    # <ec> not written: 2^<eb>, all ones is a valid absolute value
+    r = run(["plant 0 ssi bits 12 binary res 4096", "counter 0 100", (0, "UWSC", 14), (0, "UWET", 2),
+             (0, "INIT"), "fault 0 encoder stuck1", "run 20", (0, "RBS"), (0, "RCP")], "ssi")
+    got = r.resps()
+    assert not has(got[-2][2], "encoder_f") and rcp(r) == [4095]
