@@ -220,6 +220,13 @@ void measure_init(unsigned n)
     axis_t *x = &axes[n];
     meas_cfg_t *c = &mc[n];
     int32_t et = PAR(n, ET), eb = PAR(n, EB), ec = PAR(n, EC);
+#if MAC4_CARD == MAC4_CARD_SSI
+    /* the code of the first reading is J1's now (the status follows at every tick) */
+    if (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_GRAY)
+        x->ustat |= UB(GRAY);
+    else
+        x->ustat &= ~UB(GRAY);
+#endif
     /* Table 4.3 "def." (docs/interpretations.md): the counter of INC/STP is
      * 24 bits whatever was written; on the SSI board the receiver delivers
      * 26 - <sc> bits, so <eb> is at most that, and a written <ec> limits the
