@@ -104,7 +104,11 @@ void axis_error(unsigned n, uint32_t ubit, uint16_t code)
     axes[n].err_report = code;
 }
 
-void axis_init_measurement(unsigned n) { measure_init(n); }
+void axis_init_measurement(unsigned n)
+{
+    measure_init(n);
+    axes[n].meas_sup = axes[n].meas;
+}
 
 void axis_prepare(unsigned n)
 {
@@ -170,6 +174,7 @@ void card_reset(void)
         axis_t *x = &axes[n];
         *x = (axis_t){0};
         x->next_mode = NO_MODE;
+        x->mk_tick = MK_NONE;
         x->ustat = UB(ON_FLY);                    /* on-fly after switch-on (5.15) */
         axis_set_mode(n, M_DISABLE);
         motion_hold(n);
@@ -240,6 +245,9 @@ static void stop_bits(void)
         else if (x->mode != M_DISABLE) {
             axis_set_mode(n, M_BRAKE);
             x->next_mode = NO_MODE;
+#if MAC4_CARD != MAC4_CARD_STP
+            motion_brake(n);                      /* from the next tick on */
+#endif
         }
     }
     /* the card clears the bits it acted on, nothing else */
@@ -351,16 +359,16 @@ static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
-    if (x->ustat & UB(INIT)) {                    /* position reads 0 before INIT (4.9) */
-        if (x->mk == MK_COUNTER) {
+    uint8_t mk = x->mk_tick;                      /* MK_NONE before INIT (4.9) */
+    if (mk != MK_NONE) {
+        if (mk == MK_COUNTER) {
             /* internal 24-bit counter, relative (table 4.3): the common
              * case.  One word: its difference is the period's motion
              * (docs/memory-map.md, AX_CNT_LIVE); the 24 bits are ours */
             uint32_t c = x->counter;
             int32_t d = (int16_t)(uint16_t)(hal_rd16(AX_REG(n, AX_CNT_LIVE)) - (uint16_t)c);
             x->counter = (c + (uint32_t)d) & 0xFFFFFFu;   /* RCT, RED: card_supervise */
-            x->meas += d;
-            x->vel = d;
+            x->meas += d;                         /* RAV: card_supervise */
             int32_t pos = x->pos + d;
             if (!x->linear) {                     /* circular: 0 .. <cr>-1 (4.3.1.2) */
                 while (pos >= x->cr)
@@ -376,16 +384,24 @@ static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned
     int16_t u = 0;
     uint8_t mode = x->mode;
     if (mode == M_DISABLE) {
-        x->setpoint = x->meas;
-        x->ferr = 0;
+        /* setpoint and following error: card_supervise (tick_result) */
     } else if (mode == M_TEST) {
         u = (int16_t)PAR(n, DA);                  /* 5.13: straight to the DAC */
     } else {
-        int32_t sp = *(const int32_t *)(const void *)((const uint8_t *)x->sp_now + ph4);
-        int32_t e = sp - x->meas;
-        x->setpoint = sp;
-        x->ferr = e;
-        u = servo_step(&x->servo, &x->gains, e);
+        int32_t sp;
+        if (!x->braking) {
+            sp = *(const int32_t *)(const void *)((const uint8_t *)x->sp_now + ph4);
+        } else {                                  /* a stop that cannot wait for the next SP */
+            int32_t v = x->br_v, dv = x->br_dec;
+            if (v > 0)
+                v = v > dv ? v - dv : 0;
+            else if (v < 0)
+                v = v < -dv ? v + dv : 0;
+            x->br_v = v;
+            x->br_pos += v;
+            sp = (int32_t)((x->br_pos + 0x8000) >> 16);
+        }
+        u = servo_step(&x->servo, &x->gains, sp - x->meas);
         if (x->ustat & UB(REV_O))                 /* USR (4.2) */
             u = (int16_t)(u == SERVO_OUT_MIN ? SERVO_OUT_MAX : -u);
     }
@@ -402,10 +418,14 @@ static inline __attribute__((always_inline)) unsigned take_row(unsigned n)
     if (x->nx_ready) {
         x->sp_now = x->sp_next;
         x->sp_next = row;
+        x->sp_vel = x->sp_vel_next;
         x->nx_ready = 0;
         return 0;
     }
+    if (x->braking)
+        return 0;                                 /* the tick brakes by itself */
     row[0] = row[1] = row[2] = row[PROFILE_DIVIDER - 1u];
+    x->sp_vel = 0;
     return x->mode != M_DISABLE && x->mode != M_TEST;
 }
 
@@ -455,6 +475,22 @@ void fw_isr_tick(void)
  * event: axis_disable() opens /EN at once, the ramps start with the next SP
  * segment, which the profile generator has not prepared yet. */
 
+#if MAC4_CARD != MAC4_CARD_STP
+/* The setpoint and following error of the tick in phase ph, as it used
+ * them (RCP-side values, the following-error check): the tick itself keeps
+ * only what the next tick needs. */
+static void tick_result(axis_t *x, unsigned ph)
+{
+    if (x->mode == M_DISABLE) {
+        x->setpoint = x->meas;
+        x->ferr = 0;
+    } else if (x->mode != M_TEST) {
+        x->setpoint = x->braking ? (int32_t)((x->br_pos + 0x8000) >> 16) : x->sp_now[ph];
+        x->ferr = x->setpoint - x->meas;
+    }
+}
+#endif
+
 void card_supervise(void)
 {
     uint32_t t = *(volatile uint32_t *)&card_ticks;
@@ -471,11 +507,25 @@ void card_supervise(void)
         for (unsigned n = 0; n < MAC4_NAXES; n++)
             axis_disable(n);
     }
+#if MAC4_CARD != MAC4_CARD_STP
+    {
+        unsigned prev = hal_irq_save();
+        unsigned ph = (t - 1u) & (PROFILE_DIVIDER - 1u);
+        for (unsigned n = 0; n < MAC4_NAXES; n++)
+            tick_result(&axes[n], ph);
+        hal_irq_restore(prev);
+    }
+#endif
     stop_bits();
     for (unsigned n = 0; n < MAC4_NAXES; n++) {
         unsigned prev = hal_irq_save();
-        if (axes[n].mk == MK_COUNTER)
-            axes[n].raw = axes[n].counter;        /* RED: the tick keeps only the counter */
+        axis_t *x = &axes[n];
+        if (x->mk_tick == MK_COUNTER) {           /* RED, RAV: the tick keeps only counter and meas */
+            x->raw = x->counter;
+            x->vel = x->meas - x->meas_sup;
+        }
+        x->meas_sup = x->meas;
+        x->mk_tick = (x->ustat & UB(INIT)) ? x->mk : MK_NONE;
         axis_inputs(n);
         motion_supervise(n);
         hal_irq_restore(prev);

@@ -39,6 +39,13 @@ typedef struct {
      * next one (the tick swaps them at the SP boundary) */
     int32_t sp_rows[2][PROFILE_DIVIDER];
     int32_t *sp_now, *sp_next;
+    int32_t sp_vel, sp_vel_next;    /* the rows' velocity, Q16 per SP */
+    /* INC/SSI: a stop that cannot wait for the profile generator's next SP
+     * (protective reactions, stop bits): the tick brakes by itself, from the
+     * setpoint and speed of the moment, with <ed> (or <pd>) per tick^2 */
+    int64_t br_pos;                 /* setpoint, Q16 */
+    int32_t br_v, br_dec;           /* Q16 per tick, per tick^2 */
+    volatile uint8_t braking;
     int64_t target;     /* positioning target */
     int32_t edge;       /* justification: position of the edge / index found */
     uint8_t phase;      /* phase of a justification mode */
@@ -66,6 +73,8 @@ typedef struct {
     int32_t start_i, end_i;   /* and its ends */
     uint16_t start_f, end_f;
     uint8_t mk;         /* measurement kind, MK_* */
+    uint8_t mk_tick;    /* what the tick measures: mk once initialised, else MK_NONE (card_supervise) */
+    int32_t meas_sup;   /* meas at the last supervision: RAV of the counter path */
     uint8_t linear;     /* <sh> == 1 */
     int32_t cr, lp, ln, mf;
     uint16_t sw_en;     /* AX_IN bits of the switches that are configured */
@@ -74,6 +83,7 @@ typedef struct {
 
 #define MK_COUNTER 0    /* internal 24-bit counter: the fast path */
 #define MK_OTHER 1      /* SSI, external VMEbus or DPRAM: measure.c */
+#define MK_NONE 2       /* not initialised: position reads 0 (4.9) */
 
 #define STOP_NONE 0
 #define STOP_DISABLE 1  /* emergency ramp <ed>, then disable */

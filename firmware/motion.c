@@ -93,7 +93,11 @@ static int64_t target_of(unsigned n, int32_t user)
     return Q16(x->meas + delta);
 }
 
+#if MAC4_CARD != MAC4_CARD_STP
+static int at_rest(const axis_t *x) { return x->prof.vel == 0 && !x->braking; }
+#else
 static int at_rest(const axis_t *x) { return x->prof.vel == 0; }
+#endif
 
 static void arm_index(unsigned n)
 {
@@ -118,8 +122,48 @@ void motion_hold(unsigned n)
     x->sp_next = x->sp_rows[1];
     for (unsigned k = 0; k < PROFILE_DIVIDER; k++)
         x->sp_rows[0][k] = x->sp_rows[1][k] = sp;
+    x->sp_vel = x->sp_vel_next = 0;
+    x->braking = 0;
 #endif
 }
+
+#if MAC4_CARD != MAC4_CARD_STP
+/* Start the tick's own braking ramp now (interrupts masked): from the last
+ * tick's setpoint at the speed of the SP under way, dec_sp per SP^2 (=
+ * dec_sp / 16 per tick^2).  The prepared next SP is dropped; the profile
+ * generator takes over again once the tick stands (motion_profile_tick). */
+static void brake_now(axis_t *x, int64_t dec_sp)
+{
+    if (x->braking)
+        return;
+    int64_t dec = dec_sp >> 4;
+    x->br_dec = dec < 1 ? 1 : dec > INT32_MAX ? INT32_MAX : (int32_t)dec;
+    x->br_pos = (int64_t)x->setpoint * 65536;
+    x->br_v = x->sp_vel / 4;
+    x->nx_ready = 0;
+    x->braking = 1;
+}
+
+/* The tick stands after brake_now(): the profile continues from there, at
+ * rest, with the rows holding the setpoint. */
+static void brake_done(axis_t *x)
+{
+    x->prof.pos = x->br_pos;
+    x->prof.vel = 0;
+    int32_t sp = (int32_t)((x->br_pos + 0x8000) >> 16);
+    for (unsigned k = 0; k < PROFILE_DIVIDER; k++)
+        x->sp_rows[0][k] = x->sp_rows[1][k] = sp;
+    x->sp_vel = x->sp_vel_next = 0;
+    x->nx_ready = 0;
+    x->braking = 0;
+}
+
+void motion_brake(unsigned n)
+{
+    vq_refresh(n);
+    brake_now(&axes[n], axes[n].q_pd);
+}
+#endif
 
 /* A Q16 position as the tick's integer part and fraction. */
 static void split_q16(int64_t q, int32_t *i, uint16_t *f)
@@ -197,6 +241,10 @@ void motion_emergency(unsigned n, uint8_t then)
     }
     if (x->stop_then < then)                     /* deinit > disable > hold */
         x->stop_then = then;
+#if MAC4_CARD != MAC4_CARD_STP
+    vq_refresh(n);
+    brake_now(x, x->q_ed);                       /* from the next tick on, not the next SP */
+#endif
 }
 
 /* ---- justification helpers --------------------------------------------- */
@@ -231,6 +279,7 @@ static int64_t sgn(int32_t v, int64_t mag) { return v < 0 ? -mag : mag; }
  * what the split arithmetic of next_segment gives. */
 static inline __attribute__((always_inline)) void rows_of(axis_t *x, int64_t before, int32_t d)
 {
+    x->sp_vel_next = d;
     int32_t *r = x->sp_next;
     /* >> of a negative value: GCC shifts arithmetically (floor), as the
      * firmware relies on throughout, e.g. the 24-bit sign extension */
@@ -257,6 +306,9 @@ static void next_segment(axis_t *x, int64_t before)
         rows_of(x, before, (int32_t)dd);         /* the usual SP, in 32 bits */
         return;
     }
+#endif
+#if MAC4_CARD != MAC4_CARD_STP
+    x->sp_vel_next = dd > INT32_MAX ? INT32_MAX : dd < -INT32_MAX ? -INT32_MAX : (int32_t)dd;
 #endif
     split_q16(before, &x->nx_start_i, &x->nx_start_f);
     split_q16(p->pos, &x->nx_end_i, &x->nx_end_f);
@@ -289,6 +341,21 @@ static void next_segment(axis_t *x, int64_t before)
 
 static void profile_modes(unsigned n) __attribute__((noinline));
 
+/* A protective stop has ramped down: what follows it (4.8). */
+static void stop_done(unsigned n)
+{
+    axis_t *x = &axes[n];
+    if (x->stop_then == STOP_HOLD) {
+        axis_set_mode(n, M_BRAKE);
+    } else {
+        axis_disable(n);
+        if (x->stop_then == STOP_DEINIT)
+            x->ustat &= ~UB(INIT);
+    }
+    x->stop_then = STOP_NONE;
+    x->done = 1;
+}
+
 /* The common case first, in a small function: a positioning move far from
  * its target (prof_cruise); everything else in profile_modes(). */
 void motion_profile_tick(unsigned n)
@@ -298,6 +365,11 @@ void motion_profile_tick(unsigned n)
     if (x->nx_ready)
         return;                                  /* the tick has not taken the last one */
 #if MAC4_CARD != MAC4_CARD_STP
+    if (x->braking) {
+        if (x->br_v != 0)
+            return;                              /* the tick brakes (brake_now) */
+        brake_done(x);
+    }
     if (x->mode == M_POSITIONING && !x->stop_then && !x->done) {
         vq_refresh(n);
         int64_t before = x->prof.pos;
@@ -334,17 +406,8 @@ static void profile_modes(unsigned n)
     vq_refresh(n);
     if (x->stop_then) {                          /* protective stop: ramp <ed> */
         int64_t ed = x->q_ed;
-        if (prof_ramp(p, 0, ed, ed)) {
-            if (x->stop_then == STOP_HOLD) {
-                axis_set_mode(n, M_BRAKE);
-            } else {
-                axis_disable(n);
-                if (x->stop_then == STOP_DEINIT)
-                    x->ustat &= ~UB(INIT);
-            }
-            x->stop_then = STOP_NONE;
-            x->done = 1;
-        }
+        if (prof_ramp(p, 0, ed, ed))
+            stop_done(n);
     } else {
         switch (x->mode) {
         case M_ENABLE:                           /* hold; UE from a move: stop with <pd> */
@@ -560,6 +623,15 @@ void motion_supervise(unsigned n)
     PIN_PTR(x);
     if (x->mode == M_DISABLE || x->mode == M_TEST)
         return;
+#if MAC4_CARD != MAC4_CARD_STP
+    if (x->braking && x->br_v == 0) {            /* the tick's ramp has ended: act now */
+        brake_done(x);
+        if (x->stop_then)
+            stop_done(n);
+        if (x->mode == M_DISABLE)
+            return;
+    }
+#endif
     /* the index latch, for the searches */
     if (!x->idx_seen && (x->in & AX_IN_IDX) &&
         (x->mode == M_SEARCH_IDX_C || x->mode == M_SEARCH_IDX || (x->mode == M_HOME && x->phase == 3))) {

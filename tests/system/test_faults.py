@@ -720,32 +720,31 @@ MATRIX = [
         state={0: ("disable", ("dr_f",)), 1: ("enable", ())}, after={0: ("disable", ())},
         leds={"D": (0,)}, timing=(((0,), RAMP, 2),), repair=("fault 0 drive off",),
         args=("--irq-level", "3"), extra=irq3_once_in_a_tick,
-        known=known((ReactionLate,), K6 % "1-4 ticks (STP 5-8 ticks, 40-64 ms)")),
+        known=known((ReactionLate,), K6 % "STP 5-8 ticks, 40-64 ms", ("stp",))),
     Row("stall", "following error: the motor stalls", ALL, "4.8.1, 6.3.9",
         b_stall, err=("axis", 163, ub("ferr_f")),
         state={0: ("disable", ("ferr_f",)), 1: ("enable", ())}, after={0: ("disable", ())},
         leds={"D": (0,)}, timing=(((0,), RAMP | {"flat"}, 2),), repair=("plant 0 motor coulomb 0.005",),
-        known=known((ReactionLate,), K6 % "1-4 ticks (STP up to 5 ticks, 40 ms)")),
+        known=known((ReactionLate,), K6 % "STP up to 5 ticks, 40 ms", ("stp",))),
     Row("enc-frozen", "encoder counter (SSI: reading) frozen during a move", ALL, "4.8.1, 6.3.9",
         b_ferr(["fault 0 encoder frozen"]), err=("axis", 163, ub("ferr_f")),
         state={0: ("disable", ("ferr_f",)), 1: ("enable", ())}, after={0: ("disable", ())},
-        leds={"D": (0,)}, timing=(((0,), RAMP | {"flat"}, 2),), repair=("fault 0 encoder off",),
-        known=known((ReactionLate,), K6 % "1-4 ticks", ("inc", "ssi"))),
+        leds={"D": (0,)}, timing=(((0,), RAMP | {"flat"}, 2),), repair=("fault 0 encoder off",)),
     Row("enc-jump", "encoder jumps by more than <mf> during a move", ALL, "4.8.1, 6.3.9",
         b_jump("fault 0 encoder jump 1000", "fault 0 encoder jump 8000"), err=("axis", 163, ub("ferr_f")),
         state={0: ("disable", ("ferr_f",)), 1: ("enable", ())}, after={0: ("disable", ())},
         leds={"D": (0,)}, timing=(((0,), {"off"}, 2),),
-        known=known((ReactionLate,), K6 % "1-4 ticks (STP 5-8 ticks, 40-64 ms)")),
+        known=known((ReactionLate,), K6 % "SSI 3 ticks, STP 5-8 ticks, 40-64 ms", ("ssi", "stp"))),
     Row("ssi-stuck0", "SSI data line stuck at 0 during a move", ("ssi",), "4.8.1, 6.3.9",
         b_jump("fault 0 encoder stuck0"), err=("axis", 163, ub("ferr_f")),
         state={0: ("disable", ("ferr_f",)), 1: ("enable", ())}, after={0: ("disable", ())},
         leds={"D": (0,)}, timing=(((0,), {"off"}, 2),), repair=("fault 0 encoder off",),
-        known=known((ReactionLate,), K6 % "1-4 ticks", ("ssi",))),
+        known=known((ReactionLate,), K6 % "3 ticks", ("ssi",))),
     Row("ssi-stuck1", "SSI data line stuck at 1 during a move", ("ssi",), "4.8.1, 6.3.9",
         b_jump("fault 0 encoder stuck1"), err=("axis", 163, ub("ferr_f")),
         state={0: ("disable", ("ferr_f",)), 1: ("enable", ())}, after={0: ("disable", ())},
         leds={"D": (0,)}, timing=(((0,), {"off"}, 2),), repair=("fault 0 encoder off",),
-        known=known((ReactionLate,), K6 % "1-4 ticks", ("ssi",))),
+        known=known((ReactionLate,), K6 % "3 ticks", ("ssi",))),
     Row("enc-range", "absolute position outside <ec> (external encoder via the DPRAM)", ALL,
         "4.4.2.1, 6.3.8", b_ec, err=("axis", 163, ub("encoder_f", "logo_f")),
         state={0: ("disable", ("encoder_f", "logo_f")), 1: ("enable", ())}, after={0: ("disable", ())},
@@ -755,13 +754,14 @@ MATRIX = [
         b_watchdog, err=("card", 164, ob("watch_f")),
         state={n: ("disable", ()) for n in AXES4}, after={0: ("disable", ())},
         display="D", leds={"D": AXES4}, timing=((AXES4, RAMP, 2),),
-        known=known((ReactionLate,), K6 % "1-4 ticks of the <wd> expiry (STP 5-8 ticks, 40-64 ms)")),
+        known=known((ReactionLate,), K6 % "STP 5-8 ticks of the <wd> expiry, 40-64 ms", ("stp",))),
     Row("stop-bits", "stop bits of axes 1-3 set every tick (axis 3 in test mode)", ALL, "3.5.1",
         b_stop_bits,
         state={0: ("brake", ()), 1: ("brake", ()), 2: ("disable", ()), 3: ("speed", ())},
         after={0: ("brake", ())}, leds={"D": (2,)}, timing=(((0,), RAMP, 2), ((2,), {"off"}, 1)),
         at_rest=(0, 1), extra=stop_bits_cleared,
-        known=known((ReactionLate,), K6 % "7-10 ticks (17.5-25 ms; STP 9-12 ticks, 72-96 ms)")),
+        known=known((ReactionLate,), K6 % "INC/SSI: the <pd> ramp begins in the next tick, but the output "
+                    "falls below 70% of the move's only 4 ticks after (10 ms); STP 9-12 ticks, 72-96 ms")),
     Row("cmdq-header", "the host corrupts base, width or nel of the command queue", ALL, "3.2, 7.3.2",
         b_cmdq(CORRUPT_HEADER), state={0: ("speed", ()), 1: ("enable", ())}, after={0: ("speed", ())},
         leds={"D": ()}, variants=tuple(range(len(CORRUPT_HEADER))), extra=cmdq_counted_once),
@@ -940,8 +940,18 @@ def check_timing(chk, out, card, row, ev, info):
     """Event at tick e (the sampling instant at which the firmware can first
     see it); the reaction in line r.  r - e = 1: in the outputs of the tick
     that saw the event (a disable at once); 2: in those of the next tick,
-    one servo period later (a ramp that starts there)."""
-    e = event_tick(out, card, ev["event"])
+    one servo period later (a ramp that starts there).  A move that the
+    firmware stops before its first output ("starts" never comes) is the
+    reaction at once: latency 0."""
+    try:
+        e = event_tick(out, card, ev["event"])
+    except StopIteration:
+        if ev["event"][0] != "starts":
+            raise
+        for axes, _, _ in row.timing:
+            for n in axes:
+                info.setdefault("latency", {}).setdefault(n, []).append(0)
+        return
     seen = []
     for axes, signals, bound in row.timing:
         for n in axes:
