@@ -202,7 +202,8 @@ void card_reset(void)
 void card_start(void)
 {
     hal_wr16(TMR_PERIOD, TICK_US);
-    hal_wr16(TMR_CTRL, TMR_CTRL_RUN | TMR_CTRL_IE);
+    /* SSI: the tick comes when the reads the expiry started are done */
+    hal_wr16(TMR_CTRL, TMR_CTRL_RUN | TMR_CTRL_IE | (MAC4_CARD == MAC4_CARD_SSI ? TMR_CTRL_SSI_WAIT : 0));
     hal_wr16(UART_CTRL, UART_CTRL_RXIE);
     hal_irq_enable_all();
 }

@@ -26,7 +26,7 @@ static int32_t delta_eb(uint32_t now, uint32_t last, int32_t eb)
     return (int32_t)d;
 }
 
-static uint32_t gray_to_binary(uint32_t g)
+static inline __attribute__((always_inline)) uint32_t gray_to_binary(uint32_t g)
 {
     g ^= g >> 16;
     g ^= g >> 8;
@@ -40,14 +40,18 @@ static uint32_t gray_to_binary(uint32_t g)
  * Where an external position is read, validated once at INIT so that
  * read_raw() never touches any other address (whatever <ea> holds later),
  * and the counter range in force, so that the tick needs no division. */
-enum { EXT_NONE, EXT_DPRAM, EXT_VME16, EXT_VME32 };
+enum { EXT_NONE, EXT_DPRAM, EXT_VME16, EXT_VME32, EXT_SSI };
 typedef struct {
     uint32_t addr;      /* EXT_DPRAM: offset of the value; EXT_VME*: window address of the MSW */
     uint32_t lim;       /* the largest valid value: <ec> - 1, or 2^<eb> - 1 */
     int32_t range;      /* relative modulo <ec> when <ec> < 2^<eb>, else 0 (2^<eb>: delta_eb) */
     int32_t half;       /* range / 2 */
+    uint32_t mask;      /* EXT_SSI: 2^<eb> - 1 */
+    uint32_t sign;      /* EXT_SSI relative: bit <eb>-1, the sign of a delta (0: 32 bits) */
     uint16_t page;      /* EXT_VME*: VME_PAGE, A23-A20 */
-    uint8_t path;       /* EXT_*; EXT_NONE for internal systems and a refused <ea> */
+    uint8_t path;       /* EXT_*; EXT_NONE for the INC/STP counter and a refused <ea> */
+    uint8_t sc;         /* EXT_SSI: right shifts <sc> (4.4.2.2) */
+    uint8_t abs;        /* absolute measurement (<et> 2, 4) */
     uint8_t failed;     /* an encoder error was raised and the axis has not run since (6.3.8) */
 } meas_cfg_t;
 static meas_cfg_t mc[MAC4_NAXES];
@@ -163,6 +167,39 @@ void measure_axis(unsigned n)
         uint32_t raw = (hi << 16) | hal_rd16(AX_REG(n, AX_CNT_LO));
         d = (int32_t)((raw - x->counter) << 8) >> 8;
         x->raw = x->counter = raw;
+    } else if (mc[n].path == EXT_SSI) {
+        /* SSI at the connector, everything prepared at INIT: the tick's path.
+         * The receiver started at the timer's expiry (AX_CTRL_SSI_SYNC) */
+        meas_cfg_t *c = &mc[n];
+        if (x->mode != M_DISABLE)
+            c->failed = 0;
+        for (unsigned i = 0; (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY) && i < 200; i++)
+            ;
+        uint32_t hi = hal_rd16(AX_REG(n, AX_SSI_HI));
+        uint32_t raw = (((hi << 16) | hal_rd16(AX_REG(n, AX_SSI_LO))) >> c->sc) & c->mask;
+        if (x->ustat & UB(GRAY))
+            raw = gray_to_binary(raw);
+        if (raw > c->lim) {                             /* beyond <ec> (4.4.2.1, 6.3.8) */
+            x->raw = raw;
+            encoder_error(n);
+            return;
+        }
+        if (c->abs) {
+            d = (int32_t)(raw - (uint32_t)x->meas);
+        } else if (c->range) {                          /* relative, wraps at <ec> */
+            d = (int32_t)(raw - x->counter);
+            if (d > c->half)
+                d -= c->range;
+            else if (d < -c->half)
+                d += c->range;
+        } else {                                        /* relative, wraps at 2^<eb> */
+            uint32_t u = (raw - x->counter) & c->mask;
+            if (u & c->sign)
+                u |= ~c->mask;
+            d = (int32_t)u;
+        }
+        x->raw = raw;
+        x->counter = raw;
     } else {
         meas_cfg_t *c = &mc[n];
         uint32_t raw;
@@ -265,6 +302,13 @@ void measure_init(unsigned n)
             c->page = (uint16_t)(ea >> 20);
             c->addr = VME_WIN_BASE + (ea & (VME_WIN_SIZE - 1u));
         }
+    }
+    c->abs = et == 2 || et == 4;
+    if (MAC4_CARD == MAC4_CARD_SSI && et <= 2) {
+        c->path = EXT_SSI;
+        c->sc = (uint8_t)PAR(n, SC);
+        c->mask = eb_mask(eb);
+        c->sign = eb < 32 ? (uint32_t)1 << (eb - 1) : 0;
     }
     c->failed = 0;
     /* A repeated INIT restarts a relative measurement at 0 (4.9). */

@@ -159,6 +159,8 @@
 #define TMR_CTRL               (IO_BASE + 0x102) /* RW */
 #define TMR_CTRL_RUN           0x0001
 #define TMR_CTRL_IE            0x0002
+#define TMR_CTRL_SSI_WAIT      0x0004 /* SSI: the interrupt of an expiry waits until the SSI reads it
+                                       * started (AX_CTRL_SSI_SYNC) are done: no polling in the tick */
 #define TMR_STATUS             (IO_BASE + 0x104) /* R: bit 0 expired; W 1 to acknowledge */
 #define TMR_ST_EXPIRED         0x0001
 #define TMR_FREE_HI            (IO_BASE + 0x108) /* R: free-running us counter, high word */

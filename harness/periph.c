@@ -99,10 +99,17 @@ static void tmr_event(sim_t *s, cyc_t now)
                        (unsigned long long)(s->tmr.next / MAC4_CYCLES_PER_US));
         s->tmr.status |= TMR_ST_EXPIRED;
         s->tmr.last = s->tmr.next;
-        /* the SSI receivers set to AX_CTRL_SSI_SYNC freeze their encoders now */
+        /* the SSI receivers set to AX_CTRL_SSI_SYNC freeze their encoders now;
+         * with TMR_CTRL_SSI_WAIT the interrupt waits for the last of them
+         * (on the axis clock of the differential test it does not wait) */
+        s->tmr.irq_at = s->tmr.last;
         for (int n = 0; n < MAC4_NAXES; n++)
-            if (s->card == MAC4_CARD_SSI && (s->ax[n].ctrl & AX_CTRL_SSI_SYNC))
+            if (s->card == MAC4_CARD_SSI && (s->ax[n].ctrl & AX_CTRL_SSI_SYNC)) {
                 plant_ssi_start(s, n, s->axis_sync ? sim_axis_peek(s) : s->tmr.last);
+                cyc_t end = s->plant.ax[n].ssi_end;
+                if ((s->tmr.ctrl & TMR_CTRL_SSI_WAIT) && !s->axis_sync && end > s->tmr.irq_at)
+                    s->tmr.irq_at = end;
+            }
         s->tmr.next += US_TO_CYC(s->tmr.period_us ? s->tmr.period_us : 1);
     }
 }
@@ -272,7 +279,7 @@ int sim_irq_level(sim_t *s)
 {
     if (estop_edge)
         return IRQ_LEVEL_ESTOP;
-    if ((s->tmr.status & TMR_ST_EXPIRED) && (s->tmr.ctrl & TMR_CTRL_IE))
+    if ((s->tmr.status & TMR_ST_EXPIRED) && (s->tmr.ctrl & TMR_CTRL_IE) && sim_now(s) >= s->tmr.irq_at)
         return IRQ_LEVEL_TIMER;
     if (axis_irq_rd(s, 0, 2))
         return IRQ_LEVEL_AXIS;
@@ -299,6 +306,8 @@ static cyc_t min_cyc(cyc_t a, cyc_t b) { return a < b ? a : b; }
 cyc_t periph_next_event(sim_t *s)
 {
     cyc_t t = s->tmr.next;
+    if ((s->tmr.status & TMR_ST_EXPIRED) && s->tmr.irq_at > sim_now(s))
+        t = min_cyc(t, s->tmr.irq_at);          /* the delayed request (TMR_CTRL_SSI_WAIT) */
     t = min_cyc(t, s->uart.rx_done);
     t = min_cyc(t, s->uart.tx_done);
     if (s->vme.pending)

@@ -35,6 +35,7 @@ typedef struct {
     uint16_t period_us, ctrl, status;
     cyc_t next;                    /* next expiry, CYC_NEVER when stopped */
     cyc_t last;                    /* last expiry (TMR_COUNT) */
+    cyc_t irq_at;                  /* TMR_CTRL_SSI_WAIT: the request waits for the SSI reads until then */
 } tmr_t;
 
 #define UART_WIRE_SIZE 8192
