@@ -22,7 +22,7 @@ uint32_t card_ostat;
 uint16_t card_err_report;
 uint32_t card_ticks;
 static volatile uint8_t estop_seen;   /* set by the level 7 handler */
-static uint32_t supervised;           /* card_ticks at the last card_supervise() */
+uint32_t card_supervised;             /* card_ticks at the last card_supervise() */
 uint16_t card_supervise_late;         /* ticks the main loop did not supervise in time */
 
 #if MAC4_CARD == MAC4_CARD_STP
@@ -192,7 +192,7 @@ void card_reset(void)
     card_profile_due = 0;
     card_profile_late = 0;
     card_supervise_late = 0;
-    supervised = 0;
+    card_supervised = 0;
     estop_seen = 0;
     virq_head = virq_tail = 0;
     cmd_reset();
@@ -262,7 +262,7 @@ static const uint32_t sw_ustat[8] = {
     UB(REF) | UB(HWL_N), UB(REF) | UB(HWL_P) | UB(HWL_N),
 };
 
-static void axis_inputs(unsigned n)
+static inline __attribute__((always_inline)) void axis_inputs(unsigned n)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
@@ -492,14 +492,38 @@ static void tick_result(axis_t *x, unsigned ph)
 }
 #endif
 
-void card_supervise(void)
+/* One axis of card_supervise_tick(), inlined four times with a constant n
+ * (absolute register addresses), interrupts masked: what the tick did, the
+ * inputs, the protective reactions. */
+static inline __attribute__((always_inline)) void supervise_axis(unsigned n, unsigned ph)
+{
+    unsigned prev = hal_irq_save();
+    axis_t *x = &axes[n];
+    PIN_PTR(x);
+#if MAC4_CARD != MAC4_CARD_STP
+    tick_result(x, ph);
+#else
+    (void)ph;
+#endif
+    if (x->mk_tick == MK_COUNTER) {               /* RED, RAV: the tick keeps only counter and meas */
+        x->raw = x->counter;
+        x->vel = x->meas - x->meas_sup;
+    }
+    x->meas_sup = x->meas;
+    x->mk_tick = (x->ustat & UB(INIT)) ? x->mk : MK_NONE;
+    axis_inputs(n);
+    motion_supervise(n);
+    hal_irq_restore(prev);
+}
+
+void card_supervise_tick(void)
 {
     uint32_t t = *(volatile uint32_t *)&card_ticks;
-    if (t == supervised)
+    if (t == card_supervised)
         return;
-    if (t - supervised > 1u)
+    if (t - card_supervised > 1u)
         card_supervise_late++;
-    supervised = t;
+    card_supervised = t;
     uint16_t sys = hal_rd16(SYS_STATUS);
     card_ostat = (card_ostat & ~(uint32_t)(OB(FCODE0) | OB(FCODE1) | OB(FCODE2))) |
                  ((uint32_t)((sys >> SYS_ST_FC_SHIFT) & 7u) << OS_FCODE0);
@@ -508,32 +532,14 @@ void card_supervise(void)
         for (unsigned n = 0; n < MAC4_NAXES; n++)
             axis_disable(n);
     }
-#if MAC4_CARD != MAC4_CARD_STP
-    {
-        unsigned prev = hal_irq_save();
-        unsigned ph = (t - 1u) & (PROFILE_DIVIDER - 1u);
-        for (unsigned n = 0; n < MAC4_NAXES; n++)
-            tick_result(&axes[n], ph);
-        hal_irq_restore(prev);
-    }
-#endif
-    stop_bits();
-    for (unsigned n = 0; n < MAC4_NAXES; n++) {
-        unsigned prev = hal_irq_save();
-        axis_t *x = &axes[n];
-        if (x->mk_tick == MK_COUNTER) {           /* RED, RAV: the tick keeps only counter and meas */
-            x->raw = x->counter;
-            x->vel = x->meas - x->meas_sup;
-        }
-        x->meas_sup = x->meas;
-        x->mk_tick = (x->ustat & UB(INIT)) ? x->mk : MK_NONE;
-        axis_inputs(n);
-        motion_supervise(n);
-        hal_irq_restore(prev);
-    }
+    unsigned phase = (t - 1u) & (PROFILE_DIVIDER - 1u);
+    supervise_axis(0, phase);
+    supervise_axis(1, phase);
+    supervise_axis(2, phase);
+    supervise_axis(3, phase);
+    stop_bits();             /* after the reactions: a stop they began keeps its <ed> */
     /* One axis' DPRAM data per tick: each is fresh every profile period
      * (10 ms / 32 ms), at a quarter of the cost. */
-    unsigned phase = (t - 1u) & (PROFILE_DIVIDER - 1u);
     unsigned prev = hal_irq_save();
     publish(phase);
     hal_irq_restore(prev);

@@ -102,7 +102,16 @@ void card_start(void);          /* timer, serial, interrupts */
 void card_profile_tick(void);   /* profile generator: the next SP's segments (main loop) */
 extern volatile uint8_t card_profile_due;   /* axes still to step this SP: 4 at each SP boundary */
 extern uint16_t card_profile_late;          /* SP boundaries without a prepared segment */
-void card_supervise(void);      /* main loop, once after every tick: switches, reactions, DPRAM data */
+/* Main loop, once after every tick: switches, reactions, DPRAM data.  The
+ * test is inline (it is made before every command and profile step); the
+ * work is card_supervise_tick(). */
+extern uint32_t card_supervised;            /* card_ticks at the last supervision */
+void card_supervise_tick(void);
+static inline void card_supervise(void)
+{
+    if (*(volatile uint32_t *)&card_ticks != card_supervised)
+        card_supervise_tick();
+}
 extern uint16_t card_supervise_late;        /* ticks supervised late (the main loop was held up) */
 
 /* Axis state changes used by commands and by the protective reactions. */

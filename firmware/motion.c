@@ -632,8 +632,8 @@ void motion_supervise(unsigned n)
             return;
     }
 #endif
-    /* the index latch, for the searches */
-    if (!x->idx_seen && (x->in & AX_IN_IDX) &&
+    /* the index latch, for the searches (the rare bit first) */
+    if ((x->in & AX_IN_IDX) && !x->idx_seen &&
         (x->mode == M_SEARCH_IDX_C || x->mode == M_SEARCH_IDX || (x->mode == M_HOME && x->phase == 3))) {
         uint32_t hi = hal_rd16(AX_REG(n, AX_IDX_HI));
         uint32_t raw = (hi << 16) | hal_rd16(AX_REG(n, AX_IDX_LO));
@@ -655,7 +655,7 @@ void motion_supervise(unsigned n)
             x->ustat |= x->pos > x->lp ? UB(SWL_P) : UB(SWL_N);
             axis_error(n, 0, ERR_LOGICAL);       /* 4.3.1.1: braked and disabled */
             motion_emergency(n, STOP_DISABLE);
-        } else {
+        } else if (x->ustat & (UB(HWL_P) | UB(HWL_N))) {
             /* hardware limits stop motion into the switch, not out of it;
              * find edge looks for the switch on purpose */
             int64_t v = x->prof.vel;
@@ -669,7 +669,6 @@ void motion_supervise(unsigned n)
     }
     if ((x->ustat & (UB(SWL_P) | UB(SWL_N))) && x->pos >= x->ln && x->pos <= x->lp)
         x->ustat &= ~(UB(SWL_P) | UB(SWL_N));
-
 }
 
 int motion_busy(unsigned n)

@@ -3,12 +3,16 @@
 
 void q_create(uint32_t q)
 {
-    /* queueopen() of manual 7.3.2: executed by the card only. */
-    hal_wr32(q + QH_BASE, Q_HEADER_SIZE);
+    /* queueopen() of manual 7.3.2: executed by the card only.  The DPRAM
+     * keeps the old header through a reset, so a host polling then would see
+     * a valid queue with the indices half rewritten (front 0, rear old: old
+     * elements): the header is invalid (nel 0) until the indices are set. */
+    hal_wr32(q + QH_NEL, 0);
     hal_wr32(q + QH_FRONT, 0);
     hal_wr32(q + QH_REAR, 0);
     hal_wr32(q + QH_FREE, 0);
     hal_wr32(q + QH_WIDTH, Q_WIDTH);
+    hal_wr32(q + QH_BASE, Q_HEADER_SIZE);
     hal_wr32(q + QH_NEL, Q_NEL);
 }
 
