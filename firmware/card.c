@@ -133,6 +133,7 @@ void axis_prepare(unsigned n)
     x->ctrl = (uint16_t)((x->ctrl & ~AX_CTRL_SSI_SYNC) | sync);
     hal_wr16(AX_REG(n, AX_CTRL), x->ctrl);
 #endif
+    x->in_eval = 1;                              /* the switches again at the next tick */
     x->sw_en = x->sw_inv = 0;
     for (unsigned i = 0; i < 4; i++) {
         if (cfg[i])
@@ -267,7 +268,12 @@ static inline __attribute__((always_inline)) void axis_inputs(unsigned n)
     axis_t *x = &axes[n];
     PIN_PTR(x);
     uint16_t in = hal_rd16(AX_REG(n, AX_IN));
+    /* nothing to do when no input changed, unless a drive fault is active
+     * (it acts as soon as the axis runs) or INIT/E reconfigured the switches */
+    if (in == x->in && !x->in_eval)
+        return;
     x->in = in;
+    x->in_eval = 0;
     if (MAC4_CARD == MAC4_CARD_SSI) {             /* J1 is readable from basic init on */
         if (in & AX_IN_GRAY)
             x->ustat |= UB(GRAY);
@@ -277,6 +283,7 @@ static inline __attribute__((always_inline)) void axis_inputs(unsigned n)
     if (!axis_initialised(n))
         return;                                   /* switches count after INIT (4.9) */
     uint16_t active = (uint16_t)((in ^ x->sw_inv) & x->sw_en);
+    x->in_eval = (active & AX_IN_DF) != 0;
     uint32_t sw = sw_ustat[active & 7u];
     uint32_t prev = x->ustat;
     x->ustat = (x->ustat & ~(UB(HWL_P) | UB(HWL_N) | UB(REF))) | sw;

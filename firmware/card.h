@@ -77,6 +77,7 @@ typedef struct {
     int32_t meas_sup;   /* meas at the last supervision: RAV of the counter path */
     uint8_t linear;     /* <sh> == 1 */
     int32_t cr, lp, ln, mf;
+    uint8_t in_eval;    /* evaluate the inputs at the next tick even if unchanged */
     uint16_t sw_en;     /* AX_IN bits of the switches that are configured */
     uint16_t sw_inv;    /* ... and those that are high active */
 } axis_t;
