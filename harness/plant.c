@@ -88,11 +88,15 @@ void plant_axis_defaults(sim_t *s, int n)
 {
     plant_axis_t *p = &s->plant.ax[n];
     FILE *tr = p->trace;
-    cyc_t iv = p->trace_iv, tn = p->trace_next;
+    cyc_t iv = p->trace_iv, tn = p->trace_next, ts = p->trace_tick_seen;
+    int tt = p->trace_tick, tc = p->trace_card;
     memset(p, 0, sizeof *p);
     p->trace = tr;
     p->trace_iv = iv;
     p->trace_next = tn;
+    p->trace_tick = tt;
+    p->trace_card = tc;
+    p->trace_tick_seen = ts;
     fill_defaults(s, p);
     cyc_t now = sim_now(s);
     p->t0 = p->t_sync = p->nco_t = now;
@@ -148,7 +152,10 @@ static double input_u(sim_t *s, int n)
 {
     if (is_stp(s))
         return stp_field_hz(s, n);
-    return drive_enabled(s, n) ? dac_volts(s, n) : 0.0;
+    if (!drive_enabled(s, n))
+        return 0.0;
+    /* reversed wiring (motor leads swapped): the amplifier's input inverted */
+    return s->plant.ax[n].reversed ? 0.0 - dac_volts(s, n) : dac_volts(s, n);
 }
 
 /* ======================================================================== */
@@ -926,7 +933,7 @@ cyc_t plant_next_event(sim_t *s)
     for (int n = 0; n < MAC4_NAXES; n++) {
         plant_axis_t *p = &s->plant.ax[n];
         axis_hw_t *a = &s->ax[n];
-        if (p->trace)
+        if (p->trace && !p->trace_tick)
             t = min_cyc(t, p->trace_next);
         if ((a->ctrl & AX_CTRL_IDX_IE) && !a->idx_latched) {
             t = min_cyc(t, p->t_idx);
@@ -947,12 +954,19 @@ void plant_events(sim_t *s, cyc_t now)
 {
     for (int n = 0; n < MAC4_NAXES; n++) {
         plant_axis_t *p = &s->plant.ax[n];
-        while (p->trace && p->trace_next <= now) {
+        while (p->trace && !p->trace_tick && p->trace_next <= now) {
             plant_sync(s, n, p->trace_next);
             trace_row(s, n, p->trace_next);
             p->trace_next += p->trace_iv;
         }
         plant_sync(s, n, now);
+        /* tick mode: the timer expiry is a scheduler event of its own, so
+         * the first call after it comes at the expiry's cycle */
+        if (p->trace && p->trace_tick && s->tmr.last != p->trace_tick_seen && s->tmr.last <= now &&
+            (s->tmr.ctrl & TMR_CTRL_RUN)) {
+            p->trace_tick_seen = s->tmr.last;
+            trace_row(s, n, s->tmr.last);
+        }
     }
 }
 
@@ -1030,8 +1044,10 @@ void plant_step_counts(sim_t *s, int n, int64_t *generated, int64_t *lost)
     *lost = p->gen - p->lost_base - iround(stp_rotor(p, now));
 }
 
-static const char *const trace_hdr_servo = "t_ms,dac,volts,en,position,velocity,motor_rpm,counter\n";
-static const char *const trace_hdr_stp = "t_ms,rate,field_hz,en,generated,rotor,rotor_hz,lost,sync,counter\n";
+static const char *const trace_hdr_servo = "t_ms,dac,volts,en,position,velocity,motor_rpm,counter";
+static const char *const trace_hdr_stp = "t_ms,rate,field_hz,en,generated,rotor,rotor_hz,lost,sync,counter";
+/* the axis data the card publishes (hal/mac4_map.h DPA_*), as a host reads it */
+static const char *const trace_hdr_card = ",card_pos,setpoint,ferr,out,ustat";
 
 static void trace_row(sim_t *s, int n, cyc_t t)
 {
@@ -1041,18 +1057,25 @@ static void trace_row(sim_t *s, int n, cyc_t t)
     uint32_t cnt = is_ssi(s) ? plant_ssi_value(s, n, t) : counter_at(s, n, t);
     if (is_stp(s)) {
         double rot = stp_rotor(p, t);
-        fprintf(p->trace, "%.3f,%u,%.3f,%d,%lld,%.3f,%.3f,%lld,%d,%u\n", ms, a->rate,
+        fprintf(p->trace, "%.3f,%u,%.3f,%d,%lld,%.3f,%.3f,%lld,%d,%u", ms, a->rate,
                 stp_field_hz(s, n), drive_enabled(s, n), (long long)p->gen, rot,
                 p->sync ? (drive_enabled(s, n) ? stp_field_hz(s, n) : 0.0) : lerp_v(p, t),
                 (long long)(p->gen - p->lost_base - iround(rot)), p->sync, cnt);
     } else {
-        fprintf(p->trace, "%.3f,%d,%.4f,%d,%.3f,%.3f,%.2f,%u\n", ms, a->dac, dac_volts(s, n),
+        fprintf(p->trace, "%.3f,%d,%.4f,%d,%.3f,%.3f,%.2f,%u", ms, a->dac, dac_volts(s, n),
                 drive_enabled(s, n), plant_units(s, n, t), plant_units_per_s(s, n, t),
                 plant_motor_rpm(s, n, t), cnt);
     }
+    if (p->trace_card) {
+        uint32_t d = DP_AXIS_DATA((uint32_t)n);
+        fprintf(p->trace, ",%d,%d,%d,%d,0x%08X", (int32_t)dp_rd32(s, d + DPA_POS),
+                (int32_t)dp_rd32(s, d + DPA_SETPOINT), (int32_t)dp_rd32(s, d + DPA_FERR),
+                (int32_t)dp_rd32(s, d + DPA_OUT), dp_rd32(s, d + DPA_USTAT));
+    }
+    fputc('\n', p->trace);
 }
 
-int plant_trace_start(sim_t *s, int n, const char *path, cyc_t iv)
+int plant_trace_start_ex(sim_t *s, int n, const char *path, cyc_t iv, int tick, int card)
 {
     plant_axis_t *p = &s->plant.ax[n];
     plant_trace_stop(s, n);
@@ -1064,8 +1087,18 @@ int plant_trace_start(sim_t *s, int n, const char *path, cyc_t iv)
     p->trace = f;
     p->trace_iv = iv ? iv : 1;
     p->trace_next = now;
+    p->trace_tick = tick;
+    p->trace_card = card;
+    p->trace_tick_seen = s->tmr.last;   /* from the next expiry on */
     fputs(is_stp(s) ? trace_hdr_stp : trace_hdr_servo, f);
+    fputs(card ? trace_hdr_card : "", f);
+    fputc('\n', f);
     return 0;
+}
+
+int plant_trace_start(sim_t *s, int n, const char *path, cyc_t iv)
+{
+    return plant_trace_start_ex(s, n, path, iv, 0, 0);
 }
 
 void plant_trace_stop(sim_t *s, int n)

@@ -58,6 +58,7 @@ typedef struct {
     double boost;              /* ssf and accel factor while BOOST is on */
     /* ---- mechanics shared by both ---- */
     double gear;               /* motor revolutions per output revolution */
+    int reversed;              /* servo: motor leads swapped, a positive DAC word turns it negative */
     /* ---- sensors ---- */
     uint32_t lines;            /* incremental encoder lines per output revolution */
     uint32_t index;            /* the index increment within a revolution */
@@ -104,6 +105,9 @@ typedef struct {
     /* trace */
     FILE *trace;
     uint64_t trace_next, trace_iv;
+    int trace_tick;            /* a row at every timer expiry instead of every trace_iv */
+    int trace_card;            /* with the axis data the card publishes in the DPRAM */
+    uint64_t trace_tick_seen;  /* tmr.last of the last row in tick mode */
 } plant_axis_t;
 
 #define PLANT_NVME 8
@@ -158,6 +162,9 @@ double plant_motor_rpm(struct sim *s, int n, uint64_t t);
 int plant_switch_active(struct sim *s, int n, int which, uint64_t t);
 uint32_t plant_ssi_value(struct sim *s, int n, uint64_t t);  /* binary, before J1 coding */
 int plant_trace_start(struct sim *s, int n, const char *path, uint64_t interval_cyc);
+/* the same; tick: a row at every timer expiry (interval ignored); card: the
+ * card-side columns too (docs/host-script.md, "Plant") */
+int plant_trace_start_ex(struct sim *s, int n, const char *path, uint64_t interval_cyc, int tick, int card);
 void plant_trace_stop(struct sim *s, int n);
 void plant_format(struct sim *s, int n, char *buf, size_t len);   /* one line, no newline */
 

@@ -185,6 +185,16 @@ static int cmd_plant(script_t *sc, sim_t *s, char **tok, int nt)
         plant_changed(s, n);
         return 0;
     }
+    if (!strcmp(what, "wiring")) {
+        if (nt != 4 || (strcmp(tok[3], "normal") && strcmp(tok[3], "reversed")))
+            return script_err(sc, "usage: %s", "plant AXIS wiring normal|reversed");
+        if (s->card == MAC4_CARD_STP)
+            return script_err(sc, "%s: the servo cards only (MAC4-INC, MAC4-SSI)", "plant AXIS wiring");
+        plant_sync(s, n, sim_now(s));
+        p->reversed = !strcmp(tok[3], "reversed");
+        plant_changed(s, n);
+        return 0;
+    }
     if (!strcmp(what, "pos")) {
         double u = 0;
         if (nt != 4 || parse_double(sc, tok[3], &u, -1e15, 1e15))
@@ -202,7 +212,7 @@ static int cmd_plant(script_t *sc, sim_t *s, char **tok, int nt)
         edit_end(s, n, e);
         return 0;
     }
-    return script_err(sc, "unknown plant command '%s' (motor gear encoder ssi pos defaults)", what);
+    return script_err(sc, "unknown plant command '%s' (motor gear encoder ssi wiring pos defaults)", what);
 }
 
 static int cmd_stepper(script_t *sc, sim_t *s, char **tok, int nt)
@@ -386,26 +396,87 @@ static void cmd_vme_boards(sim_t *s)
     }
 }
 
+/* trace AXIS FILE [US|tick] [card], trace AXIS off, trace off */
 static int cmd_trace(script_t *sc, sim_t *s, char **tok, int nt)
 {
     int n = 0;
+    static const char *const usage = "trace AXIS FILE [US|tick] [card], trace AXIS off, trace off";
     if (nt == 2 && !strcmp(tok[1], "off")) {
         for (int a = 0; a < MAC4_NAXES; a++)
             plant_trace_stop(s, a);
         return 0;
     }
-    if (nt < 3 || nt > 4 || parse_axis(sc, tok[1], &n))
-        return (nt < 3 || nt > 4) ? script_err(sc, "usage: %s", "trace AXIS FILE [US], trace AXIS off, trace off") : -1;
+    if (nt < 3 || nt > 5 || parse_axis(sc, tok[1], &n))
+        return (nt < 3 || nt > 5) ? script_err(sc, "usage: %s", usage) : -1;
     if (nt == 3 && !strcmp(tok[2], "off")) {
         plant_trace_stop(s, n);
         return 0;
     }
     long long us = 1000;
-    if (nt == 4 && parse_int(sc, tok[3], &us, 1, 60000000))
-        return -1;
-    if (plant_trace_start(s, n, tok[2], (cyc_t)us * MAC4_CYCLES_PER_US))
+    int tick = 0, card = 0, have_iv = 0;
+    for (int i = 3; i < nt; i++) {
+        if (!strcmp(tok[i], "card") && !card) {
+            card = 1;
+        } else if (!strcmp(tok[i], "tick") && !have_iv) {
+            tick = have_iv = 1;
+        } else if (!have_iv && !card) {
+            if (parse_int(sc, tok[i], &us, 1, 60000000))
+                return -1;
+            have_iv = 1;
+        } else {
+            return script_err(sc, "usage: %s", usage);
+        }
+    }
+    if (plant_trace_start_ex(s, n, tok[2], (cyc_t)us * MAC4_CYCLES_PER_US, tick, card))
         return script_err(sc, "cannot open trace file '%s'", tok[2]);
     return 0;
+}
+
+/* include FILE: the script lines of FILE, as if they stood here (plant
+ * scenarios, tests/scenarios/).  A relative FILE is looked for beside the
+ * including script first, then in the current directory. */
+#define INCLUDE_DEPTH 8
+static int include_depth;
+
+static FILE *open_beside(const char *including, const char *file, char *used, size_t len)
+{
+    FILE *f = NULL;
+    const char *slash = strrchr(including, '/');
+    if (file[0] != '/' && slash && strcmp(including, "-")) {
+        snprintf(used, len, "%.*s/%s", (int)(slash - including), including, file);
+        f = fopen(used, "r");
+    }
+    if (!f) {
+        snprintf(used, len, "%s", file);
+        f = fopen(used, "r");
+    }
+    return f;
+}
+
+static int cmd_include(script_t *sc, sim_t *s, char **tok, int nt)
+{
+    if (nt != 2)
+        return script_err(sc, "usage: %s", "include FILE");
+    if (include_depth >= INCLUDE_DEPTH)
+        return script_err(sc, "include: nested deeper than 8 (a loop?) at '%s'", tok[1]);
+    char path[2048];
+    FILE *f = open_beside(sc->name, tok[1], path, sizeof path);
+    if (!f)
+        return script_err(sc, "include: cannot open '%s'", tok[1]);
+    script_t inner = {path, 0, 0};
+    char buf[1024];
+    int r = 0;
+    include_depth++;
+    while (fgets(buf, sizeof buf, f)) {
+        inner.line++;
+        r = script_line(&inner, s, buf);
+        if (r > 0)
+            break;
+    }
+    include_depth--;
+    fclose(f);
+    sc->errors += inner.errors;      /* reported with the included file's name and line */
+    return r > 0 ? 1 : inner.errors ? -1 : 0;
 }
 
 /* axreg AXIS REG [VALUE]: read or write an axis-board register as the
@@ -470,6 +541,8 @@ int script_plant(script_t *sc, sim_t *s, char **tok, int n)
     }
     if (!strcmp(c, "trace"))
         return cmd_trace(sc, s, tok, n);
+    if (!strcmp(c, "include"))
+        return cmd_include(sc, s, tok, n);
     if (!strcmp(c, "axreg"))
         return cmd_axreg(sc, s, tok, n);
     if (!strcmp(c, "ssi-clock")) {

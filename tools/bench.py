@@ -12,6 +12,9 @@
 3. Image, RAM and worst-case stack per card.
 4. A plot of a move: build/move-inc.png (setpoint, position, following
    error, DAC word over time).
+5. Following error and settling time of a standard move on the manual's
+   example configurations of 7.2, INC and SSI (tools/perfscen.py,
+   tests/scenarios/), in emulated time: deterministic figures.
 All figures go to build/perf.json.  A benchmark, never a test: it fails only
 when something does not run.
 """
@@ -151,6 +154,19 @@ def main():
               % (card.upper(), images[card], st["ram_bytes"], st["stack_bytes"], st["main_bytes"],
                  "/".join(str(v["bytes"]) for v in st["isr"].values()), st["ram_stack_bytes"]))
 
+    print("== following error and settling, standard move (emulated time, deterministic)")
+    moves = {}
+    for card in ("inc", "ssi"):
+        m = moves[card] = ps.standard_move(card)
+        unit = "Inc" if card == "inc" else "counts"
+        settle = "not settled in the window" if m["settling_ms"] is None else "%.0f ms" % m["settling_ms"]
+        print("  MAC4-%s %s" % (card.upper(), m["move"]))
+        print("    following error while the setpoint moves (%.0f ms, %d samples): max |ferr| %d %s, RMS %.1f %s"
+              % (m["move_ms"], m["ferr_samples"], m["ferr_max"], unit, m["ferr_rms"], unit))
+        print("    settling into <tr> = %d after the setpoint reached the target: %s; overshoot %d %s; "
+              "pos_end %s ms after the start" % (m["tr"], settle, m["overshoot"], unit,
+                                                  "-" if m["pos_end_ms"] is None else "%.0f" % m["pos_end_ms"]))
+
     png = os.path.join(ps.BUILD, "move-inc.png")
     plot_move(png)
     print("== plot of a move: %s" % os.path.relpath(png, ps.ROOT))
@@ -181,6 +197,13 @@ def main():
                     "stp_tick_cycles": ps.BUDGET_STP_TICK, "stp_profile_cycles_per_32ms": ps.BUDGET_STP_PROFILE,
                     "cpu_load_percent": ps.BUDGET_LOAD_PERCENT, "command_latency_ms": ps.BUDGET_LATENCY_MS,
                     "image_bytes": ps.BUDGET_IMAGE_BYTES, "ram_stack_bytes": ps.BUDGET_RAM_STACK_BYTES},
+        "following_error_max": moves["inc"]["ferr_max"],
+        "following_error_max_ssi": moves["ssi"]["ferr_max"],
+        "following_error_rms": moves["inc"]["ferr_rms"],
+        "following_error_rms_ssi": moves["ssi"]["ferr_rms"],
+        "settling_time_ms": moves["inc"]["settling_ms"],
+        "settling_time_ms_ssi": moves["ssi"]["settling_ms"],
+        "standard_move": moves,
         "bench_seconds": SECONDS,
         "machine": mach,
         "plot": os.path.relpath(png, ps.ROOT),

@@ -217,3 +217,107 @@ def stack(card):
     return stackdepth.analyse(os.path.join(BUILD, "eprom", "mac4-%s.elf" % card),
                               os.path.join(BUILD, "fw-%s" % card),
                               os.path.join(BUILD, "eprom", "mac4-%s.map" % card))
+
+
+# ---- issue 4: following error and settling of a standard move (make bench) ----------
+# The manual's example configurations of 7.2 (tests/scenarios/, the card and
+# the machine), axis 1, one standard move: WPV 100, WPA 10, WPD 10 (10 000
+# increments or counts per second), INC 20 000 increments (2.5 output
+# revolutions), SSI 5 000 counts (half a turn of the circular axis, no wrap).
+# Per servo tick the card's published axis data (`trace 0 FILE tick card`):
+# the figures are in emulated time and deterministic.
+SCENARIOS = os.path.join(ROOT, "tests", "scenarios")
+STANDARD_MOVE = {
+    "inc": {"scenario": "inc-7.2.mac4", "target": 20000, "pv": 100, "pa": 10, "pd": 10, "run_ms": 15000},
+    "ssi": {"scenario": "ssi-7.2.mac4", "target": 5000, "pv": 100, "pa": 10, "pd": 10, "run_ms": 15000},
+}
+
+
+def standard_move_script(card, trace_path):
+    m = STANDARD_MOVE[card]
+    lines = ["include %s" % os.path.join(SCENARIOS, m["scenario"]), "send 0 ME", "send 0 E", "run 20",
+             "send 0 RTR", "send 0 RTRT", "send 0 WPV %d" % m["pv"], "send 0 WPA %d" % m["pa"],
+             "send 0 WPD %d" % m["pd"], "send 0 WAP %d" % m["target"], "send 0 MP", "run 5",
+             "trace 0 %s tick card" % trace_path, "send 0 E", "run %d" % m["run_ms"], "trace off",
+             "send 0 RBS", "run 5"]
+    return "\n".join(lines) + "\n"
+
+
+POS_END_BIT = 10          # user status (7.1.1, firmware/status.def)
+
+
+def move_metrics(rows, target, tr):
+    """rows: the trace rows (dicts of numbers) from the E on.  Returns the
+    figures of docs/performance.md, "Following error and settling":
+
+    * the card-side samples: a row whose card columns differ from the row
+      before (the card refreshes an axis' words once per 10 ms profile
+      period; the rows between repeat them);
+    * the move: from the first sample whose setpoint left the start to the
+      first one at the target; max |ferr| and its RMS over those samples;
+    * settling: from that sample to the first one after which every sample's
+      position is inside <tr> of the target; None if the window ends first;
+    * overshoot: the furthest the published position went past the target;
+    * pos_end: the first sample with pos_end, from the start of the move."""
+    keys = ("card_pos", "setpoint", "ferr", "out", "ustat")
+    fresh, last = [], None
+    for r in rows:
+        k = tuple(r[c] for c in keys)
+        if k != last:
+            fresh.append(r)
+            last = k
+    start = fresh[0]["setpoint"]
+    sign = 1 if target >= start else -1
+    i0 = next((i for i, r in enumerate(fresh) if r["setpoint"] != start), None)
+    if i0 is None:
+        return None
+    i1 = next((i for i in range(i0, len(fresh)) if fresh[i]["setpoint"] == target), None)
+    if i1 is None:
+        return None
+    move = fresh[i0:i1 + 1]
+    ferr = [r["ferr"] for r in move]
+    rms = (sum(f * f for f in ferr) / len(ferr)) ** 0.5
+    settled = None
+    for i in range(len(fresh) - 1, i1 - 1, -1):
+        if abs(fresh[i]["card_pos"] - target) > tr:
+            break
+        settled = i
+    t0, tsp = fresh[i0]["t_ms"], fresh[i1]["t_ms"]
+    pe = next((r["t_ms"] for r in fresh[i0:] if int(r["ustat"]) >> POS_END_BIT & 1), None)
+    return {
+        "ferr_max": max(abs(f) for f in ferr),
+        "ferr_rms": round(rms, 2),
+        "ferr_samples": len(ferr),
+        "move_ms": round(tsp - t0, 3),
+        "settling_ms": None if settled is None else round(fresh[settled]["t_ms"] - tsp, 3),
+        "overshoot": max(0, max(sign * (r["card_pos"] - target) for r in fresh[i1:])),
+        "pos_end_ms": None if pe is None else round(pe - t0, 3),
+        "ferr_max_settling": max(abs(r["ferr"]) for r in fresh[i1:]),
+        "final_pos": fresh[-1]["card_pos"],
+        "tr": tr,
+    }
+
+
+def read_trace(path):
+    import csv
+    with open(path) as f:
+        return [{k: (int(v, 16) if v.startswith("0x") else float(v) if "." in v else int(v))
+                 for k, v in row.items()} for row in csv.DictReader(f)]
+
+
+def standard_move(card, workdir=BUILD):
+    """Run the standard move on the 7.2 example of `card`; its figures."""
+    m = STANDARD_MOVE[card]
+    path = os.path.join(workdir, "move-std-%s.csv" % card)
+    r = run(card, standard_move_script(card, path))
+    resp = [l.split() for l in r["lines"] if l.startswith("resp 0 ")]
+    tr = next(int(p[3], 16) for p in resp if p[2] == "107")        # RTR
+    trt = next(int(p[3], 16) for p in resp if p[2] == "109")       # RTRT
+    if any(p[2] in ("162", "163", "164", "165") for p in resp):
+        raise RuntimeError("standard move on %s: an error was reported: %s" % (card, resp))
+    res = move_metrics(read_trace(path), m["target"], tr)
+    if res is None:
+        raise RuntimeError("standard move on %s: the setpoint never reached the target" % card)
+    res.update({"trt_ms": trt, "move": "7.2 %s example, axis 1: 0 -> %d, WPV %d WPA %d WPD %d"
+                % (card.upper(), m["target"], m["pv"], m["pa"], m["pd"]), "trace": os.path.relpath(path, ROOT)})
+    return res
