@@ -328,7 +328,9 @@ static void publish(unsigned n)
     hal_wr32(d + DPA_USTAT, x->ustat);
     hal_wr32(d + DPA_SSTAT, x->sstat);
     hal_wr32(d + DPA_POS, (uint32_t)x->pos);
-    hal_wr32(d + DPA_SETPOINT, (uint32_t)x->setpoint);
+    /* in the frame of the position (with <ao>, 4.3.2), so that setpoint -
+     * position is the following error for the host too */
+    hal_wr32(d + DPA_SETPOINT, (uint32_t)(x->pos + x->ferr));
     hal_wr32(d + DPA_FERR, (uint32_t)x->ferr);
 #if MAC4_CARD == MAC4_CARD_STP
     hal_wr32(d + DPA_OUT, (uint32_t)stp_hz_now(n));   /* ROUT: Hz */

@@ -141,6 +141,20 @@ static int read_raw(unsigned n, uint32_t *raw)
     return 0;
 }
 
+/* An absolute encoder on a circular axis (4.3.1.2): the reading goes round
+ * with the axis, 0 .. <cr>-1, so the motion since the last reading is the
+ * shorter way round (less than half a turn per tick); the measured position
+ * runs on across the wrap, the displayed one wraps (measure_axis). */
+static int32_t circular_delta(const axis_t *x, uint32_t raw)
+{
+    int32_t d = (int32_t)(raw - x->counter), half = x->cr >> 1;
+    if (d > half)
+        d -= x->cr;
+    else if (d < -half)
+        d += x->cr;
+    return d;
+}
+
 /* 6.3.8: encoder_f and logo_f, 163 for the next command, disabled without a
  * ramp.  Once: while the axis stays disabled after it, a measurement that
  * keeps failing raises nothing more, so C, DEINIT and new parameters get
@@ -184,8 +198,13 @@ void measure_axis(unsigned n)
             encoder_error(n);
             return;
         }
-        if (c->abs) {
+        /* absolute on a linear axis: the reading is the position; on a
+         * circular one the encoder's wrap is the axis' (4.3.1.2): the delta
+         * across it, as in relative mode, keeps the setpoint frame whole */
+        if (c->abs && x->linear) {
             d = (int32_t)(raw - (uint32_t)x->meas);
+        } else if (c->abs) {
+            d = circular_delta(x, raw);
         } else if (c->range) {                          /* relative, wraps at <ec> */
             d = (int32_t)(raw - x->counter);
             if (d > c->half)
@@ -216,12 +235,14 @@ void measure_axis(unsigned n)
             encoder_error(n);
             return;
         }
-        if (et == 2 || et == 4) {                       /* absolute */
+        if ((et == 2 || et == 4) && (x->linear || MAC4_CARD == MAC4_CARD_STP)) {   /* absolute */
 #if MAC4_CARD == MAC4_CARD_STP
             d = (int32_t)(raw - (uint32_t)stp_counts(n));   /* in increments, converted below */
 #else
             d = (int32_t)(raw - (uint32_t)x->meas);
 #endif
+        } else if (et == 2 || et == 4) {
+            d = circular_delta(x, raw);
         } else if (c->range) {                          /* relative, the counter wraps at <ec> */
             d = (int32_t)(raw - x->counter);            /* |true delta| < <ec>/2 per tick */
             if (d > c->half)

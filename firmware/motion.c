@@ -517,6 +517,8 @@ static void profile_modes(unsigned n)
                 }
                 break;
             case 3:                              /* 3: next index pulse, positive */
+                if (x->done)
+                    break;                       /* once: jus_end and interrupt 4 (5.9) */
                 if (x->idx_seen)
                     justified(n, 1);
                 else

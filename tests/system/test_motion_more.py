@@ -8,8 +8,9 @@ per-tick outputs (`perf ticks`).
 
 Strict xfails name the firmware finding that makes them fail; each fails only
 with that kind of failure (`raises=`), any other broken check fails the test:
-K6 (docs/hardening.md: protective stops wait for the profile generator) and
-the findings of this file, H1, C1 and S1 (below)."""
+the findings of this file, H1, C1 and S1 (below).  K6 (docs/hardening.md:
+protective stops waited for the profile generator) is fixed on INC/SSI: the
+four reaction tests below pass."""
 import csv
 import os
 import re
@@ -247,7 +248,6 @@ class InterruptRepeated(AssertionError):
     pass
 
 
-@pytest.mark.xfail(strict=True, raises=InterruptRepeated, reason=H1)
 def test_home_raises_interrupt_4_once():
     r = go(["switch 0 ref 6000 2000", BOOT.strip(), "send 0 WIRQ4 0x44"] + ENABLE +
            ["send 0 WHV 40", "send 0 WHA 5", "send 0 WHD 5", "send 0 WLV 10", "send 0 MH", "send 0 E"] +
@@ -310,7 +310,6 @@ def ssi_wrap_checks(r):
     return st, ps
 
 
-@pytest.mark.xfail(strict=True, raises=WrapNotPassed, reason=C1)
 def test_ssi_7_2_speed_mode_passes_the_encoder_wrap():
     r = go(SSI72 + ["send 0 WPA 3", "send 0 WVT 50", "send 0 MS", "send 0 E"] + watch(ms=50, count=100) +
            ["vme-boards", "send 0 RBS", "run 5"], "ssi")
@@ -320,7 +319,6 @@ def test_ssi_7_2_speed_mode_passes_the_encoder_wrap():
     assert all(0 <= p < 10000 for p in ps)
 
 
-@pytest.mark.xfail(strict=True, raises=WrapNotPassed, reason=C1)
 def test_ssi_7_2_circular_optimised_takes_the_short_way_across_the_wrap():
     r = go([scen("ssi-7.2.mac4"), "send 0 UWSH 3", "send 0 INIT", "send 0 ME", "send 0 E", "run 20",
             "send 0 WPV 30", "send 0 WPA 3", "send 0 WPD 3", "send 0 WAP 7500", "send 0 MP", "send 0 E"] +
@@ -397,7 +395,6 @@ class FramesDiffer(AssertionError):
     pass
 
 
-@pytest.mark.xfail(strict=True, raises=FramesDiffer, reason=S1)
 def test_published_setpoint_and_position_share_a_frame_after_wzp():
     r = go([BOOT.strip()] + ENABLE + ["send 0 WAP 300", "send 0 MP", "send 0 E", "run 800", "send 0 WZP 5000",
                                       "run 20", "peek32 0x300C", "peek32 0x3008", "peek32 0x3010", "send 0 RCP",
@@ -419,10 +416,6 @@ def test_published_setpoint_and_position_share_a_frame_after_wzp():
 # variants per reaction put the event in each tick of the SP.
 K = 2                                         # P controller: DAC = K x following error
 VT = 40                                       # increments per SP: 10 per tick
-K6 = ("K6: protective reactions act through the profile generator, which works one SP ahead: the <ed> "
-      "ramp (with <ed> above the speed: the disable) starts 1-10 ticks after the event instead of within one "
-      "servo period (docs/hardening.md)")
-
 
 class ReactionLate(AssertionError):
     pass
@@ -515,14 +508,12 @@ def test_drive_fault_in_test_mode_ssi():
     check(runs, 1, reported("dr_f"))
 
 
-@pytest.mark.xfail(strict=True, raises=ReactionLate, reason=K6)
 def test_drive_fault_reaction_within_one_servo_period():
     runs = [reaction([BOOT.strip()] + ENABLE + p_only(), ["fault 0 drive on"], at_inject, disabled, before=8 + ph)
             for ph in range(4)]
     check(runs, 2, reported("dr_f"))
 
 
-@pytest.mark.xfail(strict=True, raises=ReactionLate, reason=K6)
 def test_following_error_reaction_within_one_servo_period():
     def variant(ph):
         mf = 600 + 10 * ph                    # the stalled axis' error grows by 10 per tick
@@ -539,7 +530,6 @@ def crossing(at):
     return event
 
 
-@pytest.mark.xfail(strict=True, raises=ReactionLate, reason=K6)
 def test_software_limit_reaction_within_one_servo_period():
     def variant(ph):
         lp = 1300 + 10 * ph
@@ -547,7 +537,6 @@ def test_software_limit_reaction_within_one_servo_period():
     check([variant(ph) for ph in range(4)], 2, reported("swl_p"))
 
 
-@pytest.mark.xfail(strict=True, raises=ReactionLate, reason=K6)
 def test_hardware_limit_reaction_within_one_servo_period():
     def variant(ph):
         at = 1300 + 10 * ph
