@@ -655,7 +655,7 @@ void motion_supervise(unsigned n)
             motion_emergency(n, STOP_DISABLE);
         } else if (x->linear && (x->pos > x->lp || x->pos < x->ln)) {
             x->ustat |= x->pos > x->lp ? UB(SWL_P) : UB(SWL_N);
-            axis_error(n, 0, ERR_LOGICAL);       /* 4.3.1.1: braked and disabled */
+            axis_error(n, UB(LOGO_F), ERR_LOGICAL);   /* 4.3.1.1: braked and disabled; C first (6.3) */
             motion_emergency(n, STOP_DISABLE);
         } else if (x->ustat & (UB(HWL_P) | UB(HWL_N))) {
             /* hardware limits stop motion into the switch, not out of it;
@@ -664,7 +664,7 @@ void motion_supervise(unsigned n)
             int into_p = v > 0 && (x->ustat & UB(HWL_P));
             int into_n = v < 0 && (x->ustat & UB(HWL_N));
             if ((into_p || into_n) && x->mode != M_FIND_EDGE) {
-                axis_error(n, 0, ERR_LOGICAL);
+                axis_error(n, UB(LOGO_F), ERR_LOGICAL);   /* C first (6.3), then out of the switch */
                 motion_emergency(n, STOP_HOLD);
             }
         }

@@ -701,20 +701,19 @@ MATRIX = [
         state={n: ("disable", ()) for n in AXES4}, after={0: ("disable", ())},
         display="E", leds={"D": AXES4, "stop": 1}, timing=((AXES4, {"off"}, 1),), at_once=True,
         repair=("estop off",)),
+    # K7 fixed: the report sets logo_f, so C comes first (display 8 until then)
     Row("hwl-move", "positive limit switch reached during a move", ALL, "2.2.3, 4.8.2",
-        b_hwl_move, err=("axis", 163, ub("hwl_p")),
-        state={0: ("brake", ("hwl_p",)), 1: ("enable", ())}, after={0: ("brake", ("hwl_p",))},
-        leds={"D": ()}, timing=(((0,), RAMP, 2),), at_rest=(0,),
-        known=known((NotAcknowledged, ReactionLate),
-                    K7 + "; " + K6 % "7-10 ticks (17.5-25 ms; STP 5-8 ticks, 40-64 ms)")),
+        b_hwl_move, err=("axis", 163, ub("hwl_p", "logo_f")),
+        state={0: ("brake", ("hwl_p", "logo_f")), 1: ("enable", ())}, after={0: ("brake", ("hwl_p",))},
+        display="8", leds={"D": ()}, timing=(((0,), RAMP | {"fall"}, 2),), at_rest=(0,),
+        known=known((ReactionLate,), K6 % "STP 5-8 ticks, 40-64 ms", ("stp",))),
     Row("hwl-overrun", "a move further into a limit switch the axis has overrun", ALL, "2.2.3, 4.8.2",
-        b_hwl_overrun, err=("axis", 163, ub("hwl_p")),
-        state={0: ("brake", ("hwl_p",)), 1: ("enable", ())}, after={0: ("brake", ("hwl_p",))},
-        leds={"D": ()}, timing=(((0,), {"back", "off"}, 2),), at_rest=(0,),
+        b_hwl_overrun, err=("axis", 163, ub("hwl_p", "logo_f")),
+        state={0: ("brake", ("hwl_p", "logo_f")), 1: ("enable", ())}, after={0: ("brake", ("hwl_p",))},
+        display="8", leds={"D": ()}, timing=(((0,), {"back", "off"}, 2),), at_rest=(0,),
         post=post_out_of_switch, extra=out_of_switch,
-        known=known((NotAcknowledged, ReactionLate),
-                    K7 + "; " + K6 % "one whole SP of motion into the switch (5 ticks), though the "
-                    "direction is known before the first step,")),
+        known=known((ReactionLate,), K6 % "STP: one whole SP of motion into the switch (5 ticks), though the "
+                    "direction is known before the first step,", ("stp",))),
     Row("drive-fault", "drive fault during a move", ALL, "6.3.4, 4.8.2, 4.6",
         b_drive_fault, err=("axis", 163, ub("dr_f")),
         state={0: ("disable", ("dr_f",)), 1: ("enable", ())}, after={0: ("disable", ())},
@@ -758,10 +757,11 @@ MATRIX = [
     Row("stop-bits", "stop bits of axes 1-3 set every tick (axis 3 in test mode)", ALL, "3.5.1",
         b_stop_bits,
         state={0: ("brake", ()), 1: ("brake", ()), 2: ("disable", ()), 3: ("speed", ())},
-        after={0: ("brake", ())}, leds={"D": (2,)}, timing=(((0,), RAMP, 2), ((2,), {"off"}, 1)),
+        # the <pd> ramp (mode brake) begins in the tick after the supervision that takes the
+        # bits, but a P controller's DAC shows a tenth of its fall only one tick later: bound 3
+        after={0: ("brake", ())}, leds={"D": (2,)}, timing=(((0,), RAMP | {"fall"}, 3), ((2,), {"off"}, 1)),
         at_rest=(0, 1), extra=stop_bits_cleared,
-        known=known((ReactionLate,), K6 % "INC/SSI: the <pd> ramp begins in the next tick, but the output "
-                    "falls below 70% of the move's only 4 ticks after (10 ms); STP 9-12 ticks, 72-96 ms")),
+        known=known((ReactionLate,), K6 % "STP 9-12 ticks, 72-96 ms", ("stp",))),
     Row("cmdq-header", "the host corrupts base, width or nel of the command queue", ALL, "3.2, 7.3.2",
         b_cmdq(CORRUPT_HEADER), state={0: ("speed", ()), 1: ("enable", ())}, after={0: ("speed", ())},
         leds={"D": ()}, variants=tuple(range(len(CORRUPT_HEADER))), extra=cmdq_counted_once),
@@ -908,7 +908,9 @@ def reaction_tick(out, card, n, e, signals):
     one of the signals.  Line k shows what the card put out after the tick
     at expiry k-1 (that tick's outputs and whatever the main loop did after
     it).  Signals, against the 7 lines up to e: "off" /EN open and output 0;
-    "drop" the DAC (step rate) below 70% of the move's; "flat" the growth of
+    "drop" the DAC (step rate) below 70% of the move's; "fall" the DAC falls
+    by a tenth of the move's in one tick (a brake that holds the axis: the
+    DAC then follows the motor's own deceleration); "flat" the growth of
     the DAC, which shows the following error (P controller), halved: the
     setpoint brakes; "back" the output of a move that began stops growing
     (STP: the rate is 0 again)."""
@@ -924,6 +926,8 @@ def reaction_tick(out, card, n, e, signals):
         if "off" in signals and off(a):
             return k
         if "drop" in signals and sign * a["out"] < 0.7 * cruise:
+            return k
+        if "fall" in signals and sign * (a["out"] - prev["out"]) < -0.1 * cruise:
             return k
         if "flat" in signals and slope > 0 and sign * (a["out"] - prev["out"]) < 0.5 * slope:
             return k
