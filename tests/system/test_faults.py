@@ -393,7 +393,7 @@ def b_jump(inject, inject_stp=None):
         s("run %d" % SETTLE[card])
         watch(s, 8 + ph)
         s(inject_stp if card == "stp" and inject_stp else inject, "run-ticks 40", "perf ticks off", "run 100")
-        return {"event": ("inject",)}
+        return {"event": ("inject", "encoder")}
     return build
 
 
@@ -733,17 +733,17 @@ MATRIX = [
         b_jump("fault 0 encoder jump 1000", "fault 0 encoder jump 8000"), err=("axis", 163, ub("ferr_f")),
         state={0: ("disable", ("ferr_f",)), 1: ("enable", ())}, after={0: ("disable", ())},
         leds={"D": (0,)}, timing=(((0,), {"off"}, 2),),
-        known=known((ReactionLate,), K6 % "SSI 3 ticks, STP 5-8 ticks, 40-64 ms", ("ssi", "stp"))),
+        known=known((ReactionLate,), K6 % "STP 5-8 ticks, 40-64 ms", ("stp",))),
     Row("ssi-stuck0", "SSI data line stuck at 0 during a move", ("ssi",), "4.8.1, 6.3.9",
         b_jump("fault 0 encoder stuck0"), err=("axis", 163, ub("ferr_f")),
         state={0: ("disable", ("ferr_f",)), 1: ("enable", ())}, after={0: ("disable", ())},
         leds={"D": (0,)}, timing=(((0,), {"off"}, 2),), repair=("fault 0 encoder off",),
-        known=known((ReactionLate,), K6 % "3 ticks", ("ssi",))),
+),
     Row("ssi-stuck1", "SSI data line stuck at 1 during a move", ("ssi",), "4.8.1, 6.3.9",
         b_jump("fault 0 encoder stuck1"), err=("axis", 163, ub("ferr_f")),
         state={0: ("disable", ("ferr_f",)), 1: ("enable", ())}, after={0: ("disable", ())},
         leds={"D": (0,)}, timing=(((0,), {"off"}, 2),), repair=("fault 0 encoder off",),
-        known=known((ReactionLate,), K6 % "3 ticks", ("ssi",))),
+),
     Row("enc-range", "absolute position outside <ec> (external encoder via the DPRAM)", ALL,
         "4.4.2.1, 6.3.8", b_ec, err=("axis", 163, ub("encoder_f", "logo_f")),
         state={0: ("disable", ("encoder_f", "logo_f")), 1: ("enable", ())}, after={0: ("disable", ())},
@@ -879,7 +879,11 @@ def event_tick(out, card, loc):
     after = [t for t in out.ticks if t["ev"] > out.marks["inject"]]
     kind = loc[0]
     if kind == "inject":
-        return [t["no"] for t in out.ticks if t["ev"] < out.marks["inject"]][-1]
+        e = [t["no"] for t in out.ticks if t["ev"] < out.marks["inject"]][-1]
+        # the SSI receivers read the encoders at the timer's expiry
+        # (AX_CTRL_SSI_SYNC): an encoder fault injected at the expiry is in
+        # the reading of the next sampling instant
+        return e + 1 if card == "ssi" and loc[1:] == ("encoder",) else e
     if kind == "cross":                                   # the counter at the expiry
         return next(t["no"] for t in after if t["ax"][loc[1]]["cnt"] >= loc[2])
     # A line's DAC was computed at the tick before; a reaction that disables
