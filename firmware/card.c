@@ -203,8 +203,12 @@ void card_reset(void)
 void card_start(void)
 {
     hal_wr16(TMR_PERIOD, TICK_US);
-    /* SSI: the tick comes when the reads the expiry started are done */
-    hal_wr16(TMR_CTRL, TMR_CTRL_RUN | TMR_CTRL_IE | (MAC4_CARD == MAC4_CARD_SSI ? TMR_CTRL_SSI_WAIT : 0));
+#if MAC4_CARD == MAC4_CARD_SSI
+    /* the tick comes when the SSI reads the expiry started are done */
+    hal_wr16(TMR_CTRL, TMR_CTRL_RUN | TMR_CTRL_IE | TMR_CTRL_SSI_WAIT);
+#else
+    hal_wr16(TMR_CTRL, TMR_CTRL_RUN | TMR_CTRL_IE);
+#endif
     hal_wr16(UART_CTRL, UART_CTRL_RXIE);
     hal_irq_enable_all();
 }
@@ -247,9 +251,7 @@ static void stop_bits(void)
         else if (x->mode != M_DISABLE) {
             axis_set_mode(n, M_BRAKE);
             x->next_mode = NO_MODE;
-#if MAC4_CARD != MAC4_CARD_STP
             motion_brake(n);                      /* from the next tick on */
-#endif
         }
     }
     /* the card clears the bits it acted on, nothing else */

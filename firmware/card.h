@@ -45,6 +45,7 @@ typedef struct {
      * setpoint and speed of the moment, with <ed> (or <pd>) per tick^2 */
     int64_t br_pos;                 /* setpoint, Q16 */
     int32_t br_v, br_dec;           /* Q16 per tick, per tick^2 */
+    int32_t br_ssf;                 /* STP: <ssf> per tick, Q16: from there it stops at once */
     volatile uint8_t braking;
     int64_t target;     /* positioning target */
     int32_t edge;       /* justification: position of the edge / index found */

@@ -93,11 +93,14 @@ static int64_t target_of(unsigned n, int32_t user)
     return Q16(x->meas + delta);
 }
 
-#if MAC4_CARD != MAC4_CARD_STP
 static int at_rest(const axis_t *x) { return x->prof.vel == 0 && !x->braking; }
-#else
-static int at_rest(const axis_t *x) { return x->prof.vel == 0; }
-#endif
+
+/* A Q16 position as the tick's integer part and fraction. */
+static void split_q16(int64_t q, int32_t *i, uint16_t *f)
+{
+    *i = (int32_t)(q >> 16);
+    *f = (uint16_t)q;
+}
 
 static void arm_index(unsigned n)
 {
@@ -123,11 +126,10 @@ void motion_hold(unsigned n)
     for (unsigned k = 0; k < PROFILE_DIVIDER; k++)
         x->sp_rows[0][k] = x->sp_rows[1][k] = sp;
     x->sp_vel = x->sp_vel_next = 0;
-    x->braking = 0;
 #endif
+    x->braking = 0;
 }
 
-#if MAC4_CARD != MAC4_CARD_STP
 /* Start the tick's own braking ramp now (interrupts masked): from the last
  * tick's setpoint at the speed of the SP under way, dec_sp per SP^2 (=
  * dec_sp / 16 per tick^2).  The prepared next SP is dropped; the profile
@@ -138,22 +140,38 @@ static void brake_now(axis_t *x, int64_t dec_sp)
         return;
     int64_t dec = dec_sp >> 4;
     x->br_dec = dec < 1 ? 1 : dec > INT32_MAX ? INT32_MAX : (int32_t)dec;
+#if MAC4_CARD != MAC4_CARD_STP
     x->br_pos = (int64_t)x->setpoint * 65536;
     x->br_v = x->sp_vel / 4;
+#else
+    /* the Q16 setpoint and the segment's step per tick; a stepper stops at
+     * once from <ssf> or less (5.14): br_ssf per tick */
+    x->br_pos = (int64_t)x->sp_i * 65536 + x->sp_f;
+    x->br_v = (int32_t)((uint32_t)x->st_i << 16) + (int32_t)x->st_f;
+    x->br_ssf = (int32_t)(stp_ax[x - axes].ssf >> 2);
+#endif
     x->nx_ready = 0;
     x->braking = 1;
 }
 
 /* The tick stands after brake_now(): the profile continues from there, at
- * rest, with the rows holding the setpoint. */
+ * rest, with the rows (STP: the segment) holding the setpoint. */
 static void brake_done(axis_t *x)
 {
     x->prof.pos = x->br_pos;
     x->prof.vel = 0;
+#if MAC4_CARD != MAC4_CARD_STP
     int32_t sp = (int32_t)((x->br_pos + 0x8000) >> 16);
     for (unsigned k = 0; k < PROFILE_DIVIDER; k++)
         x->sp_rows[0][k] = x->sp_rows[1][k] = sp;
     x->sp_vel = x->sp_vel_next = 0;
+#else
+    split_q16(x->br_pos, &x->sp_i, &x->sp_f);
+    x->start_i = x->end_i = x->sp_i;
+    x->start_f = x->end_f = x->sp_f;
+    x->st_i = 0;
+    x->st_f = 0;
+#endif
     x->nx_ready = 0;
     x->braking = 0;
 }
@@ -162,14 +180,6 @@ void motion_brake(unsigned n)
 {
     vq_refresh(n);
     brake_now(&axes[n], axes[n].q_pd);
-}
-#endif
-
-/* A Q16 position as the tick's integer part and fraction. */
-static void split_q16(int64_t q, int32_t *i, uint16_t *f)
-{
-    *i = (int32_t)(q >> 16);
-    *f = (uint16_t)q;
 }
 
 /* Tick side, at each SP boundary (STP; INC/SSI swap setpoint rows in
@@ -181,6 +191,8 @@ int motion_segment(unsigned n)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
+    if (x->braking)
+        return 0;                                /* the tick brakes by itself */
     if (x->nx_ready) {
         x->start_i = x->nx_start_i;
         x->start_f = x->nx_start_f;
@@ -241,10 +253,8 @@ void motion_emergency(unsigned n, uint8_t then)
     }
     if (x->stop_then < then)                     /* deinit > disable > hold */
         x->stop_then = then;
-#if MAC4_CARD != MAC4_CARD_STP
     vq_refresh(n);
     brake_now(x, x->q_ed);                       /* from the next tick on, not the next SP */
-#endif
 }
 
 /* ---- justification helpers --------------------------------------------- */
@@ -364,12 +374,12 @@ void motion_profile_tick(unsigned n)
     PIN_PTR(x);
     if (x->nx_ready)
         return;                                  /* the tick has not taken the last one */
-#if MAC4_CARD != MAC4_CARD_STP
     if (x->braking) {
         if (x->br_v != 0)
             return;                              /* the tick brakes (brake_now) */
         brake_done(x);
     }
+#if MAC4_CARD != MAC4_CARD_STP
     if (x->mode == M_POSITIONING && !x->stop_then && !x->done) {
         vq_refresh(n);
         int64_t before = x->prof.pos;
@@ -594,7 +604,18 @@ int16_t motion_servo_tick(unsigned n, unsigned phase)
      * bits; the segment's start and end are taken exactly from the profile. */
     int32_t old_i = x->sp_i;
     uint16_t old_f = x->sp_f;
-    if (phase == 3) {
+    if (x->braking) {                            /* a stop that cannot wait for the next SP */
+        int32_t v = x->br_v, dv = x->br_dec;
+        if (v > 0)
+            v = v > dv ? v - dv : 0;
+        else if (v < 0)
+            v = v < -dv ? v + dv : 0;
+        if (v <= x->br_ssf && v >= -x->br_ssf)
+            v = 0;                               /* from <ssf> or less a stepper stops at once (5.14) */
+        x->br_v = v;
+        x->br_pos += v;
+        split_q16(x->br_pos, &x->sp_i, &x->sp_f);
+    } else if (phase == 3) {
         x->sp_i = x->end_i;
         x->sp_f = x->end_f;
     } else {
@@ -625,7 +646,6 @@ void motion_supervise(unsigned n)
     PIN_PTR(x);
     if (x->mode == M_DISABLE || x->mode == M_TEST)
         return;
-#if MAC4_CARD != MAC4_CARD_STP
     if (x->braking && x->br_v == 0) {            /* the tick's ramp has ended: act now */
         brake_done(x);
         if (x->stop_then)
@@ -633,7 +653,6 @@ void motion_supervise(unsigned n)
         if (x->mode == M_DISABLE)
             return;
     }
-#endif
     /* the index latch, for the searches (the rare bit first) */
     if ((x->in & AX_IN_IDX) && !x->idx_seen &&
         (x->mode == M_SEARCH_IDX_C || x->mode == M_SEARCH_IDX || (x->mode == M_HOME && x->phase == 3))) {

@@ -705,26 +705,21 @@ MATRIX = [
     Row("hwl-move", "positive limit switch reached during a move", ALL, "2.2.3, 4.8.2",
         b_hwl_move, err=("axis", 163, ub("hwl_p", "logo_f")),
         state={0: ("brake", ("hwl_p", "logo_f")), 1: ("enable", ())}, after={0: ("brake", ("hwl_p",))},
-        display="8", leds={"D": ()}, timing=(((0,), RAMP | {"fall"}, 2),), at_rest=(0,),
-        known=known((ReactionLate,), K6 % "STP 5-8 ticks, 40-64 ms", ("stp",))),
+        display="8", leds={"D": ()}, timing=(((0,), RAMP | {"fall"}, 2),), at_rest=(0,)),
     Row("hwl-overrun", "a move further into a limit switch the axis has overrun", ALL, "2.2.3, 4.8.2",
         b_hwl_overrun, err=("axis", 163, ub("hwl_p", "logo_f")),
         state={0: ("brake", ("hwl_p", "logo_f")), 1: ("enable", ())}, after={0: ("brake", ("hwl_p",))},
         display="8", leds={"D": ()}, timing=(((0,), {"back", "off"}, 2),), at_rest=(0,),
-        post=post_out_of_switch, extra=out_of_switch,
-        known=known((ReactionLate,), K6 % "STP: one whole SP of motion into the switch (5 ticks), though the "
-                    "direction is known before the first step,", ("stp",))),
+        post=post_out_of_switch, extra=out_of_switch),
     Row("drive-fault", "drive fault during a move", ALL, "6.3.4, 4.8.2, 4.6",
         b_drive_fault, err=("axis", 163, ub("dr_f")),
         state={0: ("disable", ("dr_f",)), 1: ("enable", ())}, after={0: ("disable", ())},
         leds={"D": (0,)}, timing=(((0,), RAMP, 2),), repair=("fault 0 drive off",),
-        args=("--irq-level", "3"), extra=irq3_once_in_a_tick,
-        known=known((ReactionLate,), K6 % "STP 5-8 ticks, 40-64 ms", ("stp",))),
+        args=("--irq-level", "3"), extra=irq3_once_in_a_tick),
     Row("stall", "following error: the motor stalls", ALL, "4.8.1, 6.3.9",
         b_stall, err=("axis", 163, ub("ferr_f")),
         state={0: ("disable", ("ferr_f",)), 1: ("enable", ())}, after={0: ("disable", ())},
-        leds={"D": (0,)}, timing=(((0,), RAMP | {"flat"}, 2),), repair=("plant 0 motor coulomb 0.005",),
-        known=known((ReactionLate,), K6 % "STP up to 5 ticks, 40 ms", ("stp",))),
+        leds={"D": (0,)}, timing=(((0,), RAMP | {"flat"}, 2),), repair=("plant 0 motor coulomb 0.005",)),
     Row("enc-frozen", "encoder counter (SSI: reading) frozen during a move", ALL, "4.8.1, 6.3.9",
         b_ferr(["fault 0 encoder frozen"]), err=("axis", 163, ub("ferr_f")),
         state={0: ("disable", ("ferr_f",)), 1: ("enable", ())}, after={0: ("disable", ())},
@@ -733,7 +728,9 @@ MATRIX = [
         b_jump("fault 0 encoder jump 1000", "fault 0 encoder jump 8000"), err=("axis", 163, ub("ferr_f")),
         state={0: ("disable", ("ferr_f",)), 1: ("enable", ())}, after={0: ("disable", ())},
         leds={"D": (0,)}, timing=(((0,), {"off"}, 2),),
-        known=known((ReactionLate,), K6 % "STP 5-8 ticks, 40-64 ms", ("stp",))),
+        known=known((ReactionLate,), "STP: the <ed> ramp begins in the next tick, but from this speed it "
+                    "needs a second one before the stepper may stop from <ssf> (5.14), so the disable shows "
+                    "3 ticks (24 ms) after the jump; the bound of 2 assumes a stop in one step", ("stp",))),
     Row("ssi-stuck0", "SSI data line stuck at 0 during a move", ("ssi",), "4.8.1, 6.3.9",
         b_jump("fault 0 encoder stuck0"), err=("axis", 163, ub("ferr_f")),
         state={0: ("disable", ("ferr_f",)), 1: ("enable", ())}, after={0: ("disable", ())},
@@ -750,16 +747,14 @@ MATRIX = [
     Row("watchdog", "the host stops sending (watchdog <wd>), all axes moving", ALL, "4.7, 6.3.6, 4.8.2",
         b_watchdog, err=("card", 164, ob("watch_f")),
         state={n: ("disable", ()) for n in AXES4}, after={0: ("disable", ())},
-        display="D", leds={"D": AXES4}, timing=((AXES4, RAMP, 2),),
-        known=known((ReactionLate,), K6 % "STP 5-8 ticks of the <wd> expiry, 40-64 ms", ("stp",))),
+        display="D", leds={"D": AXES4}, timing=((AXES4, RAMP, 2),)),
     Row("stop-bits", "stop bits of axes 1-3 set every tick (axis 3 in test mode)", ALL, "3.5.1",
         b_stop_bits,
         state={0: ("brake", ()), 1: ("brake", ()), 2: ("disable", ()), 3: ("speed", ())},
         # the <pd> ramp (mode brake) begins in the tick after the supervision that takes the
-        # bits, but a P controller's DAC shows a tenth of its fall only one tick later: bound 3
+        # bits, but a P controller's DAC shows a twentieth of its fall only one tick later: bound 3
         after={0: ("brake", ())}, leds={"D": (2,)}, timing=(((0,), RAMP | {"fall"}, 3), ((2,), {"off"}, 1)),
-        at_rest=(0, 1), extra=stop_bits_cleared,
-        known=known((ReactionLate,), K6 % "STP 9-12 ticks, 72-96 ms", ("stp",))),
+        at_rest=(0, 1), extra=stop_bits_cleared),
     Row("cmdq-header", "the host corrupts base, width or nel of the command queue", ALL, "3.2, 7.3.2",
         b_cmdq(CORRUPT_HEADER), state={0: ("speed", ()), 1: ("enable", ())}, after={0: ("speed", ())},
         leds={"D": ()}, variants=tuple(range(len(CORRUPT_HEADER))), extra=cmdq_counted_once),
@@ -911,7 +906,7 @@ def reaction_tick(out, card, n, e, signals):
     at expiry k-1 (that tick's outputs and whatever the main loop did after
     it).  Signals, against the 7 lines up to e: "off" /EN open and output 0;
     "drop" the DAC (step rate) below 70% of the move's; "fall" the DAC falls
-    by a tenth of the move's in one tick (a brake that holds the axis: the
+    by a twentieth of the move's in one tick (a brake that holds the axis: the
     DAC then follows the motor's own deceleration); "flat" the growth of
     the DAC, which shows the following error (P controller), halved: the
     setpoint brakes; "back" the output of a move that began stops growing
@@ -929,7 +924,7 @@ def reaction_tick(out, card, n, e, signals):
             return k
         if "drop" in signals and sign * a["out"] < 0.7 * cruise:
             return k
-        if "fall" in signals and sign * (a["out"] - prev["out"]) < -0.1 * cruise:
+        if "fall" in signals and sign * (a["out"] - prev["out"]) < -0.05 * cruise:
             return k
         if "flat" in signals and slope > 0 and sign * (a["out"] - prev["out"]) < 0.5 * slope:
             return k
