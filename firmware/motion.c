@@ -467,7 +467,9 @@ static void profile_modes(unsigned n)
                 if (d <= PAR(n, TR)) {
                     if (x->trt_count >= x->trt_periods) {
                         x->ustat |= UB(POS_END);
-                        x->sstat |= SB(IN_POS);
+#if MAC4_CARD == MAC4_CARD_STP
+                        x->sstat |= SB(IN_POS);  /* 7.1.2: MAC4-STP only (LED P) */
+#endif
                         vme_irq((uint8_t)PAR(n, IRQ4));
                     } else {
                         x->trt_count++;

@@ -70,6 +70,16 @@ def test_positioning_inc_example_gains():
     assert all(has(s, "pos_end") for s in st[first_end:])
 
 
+def test_in_pos_is_a_stepper_bit():
+    """7.1.2: system status bit 15 in_pos is the MAC4-STP's LED P; a servo
+    card leaves it clear at pos_end."""
+    r = go(axis(INIT_EN) + ["run 20"] + MOVE + ["send 0 WAP 2000", "send 0 MP", "send 0 E", "run 3000",
+                                                 "send 0 RBS", "send 0 RSS", "run 5"])
+    rbs, rss = [int(l.split()[3], 16) for l in r.grep(r"^resp 0 (%d|%d) " % (code("RBS"), code("RSS")))][-2:]
+    assert rbs & ubits("pos_end")
+    assert not rss & (1 << 15)
+
+
 def test_target_radius_and_time():
     r = go(axis(INIT_EN) + ["run 20"] + MOVE +
            ["send 0 WTR 0", "send 0 WTRT 200", "send 0 WAP 5000", "send 0 MP", "send 0 E"] + watch(count=300))
