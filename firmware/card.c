@@ -18,6 +18,7 @@
 #endif
 
 axis_t axes[MAC4_NAXES];
+axis_t *const axis_at[MAC4_NAXES] = {&axes[0], &axes[1], &axes[2], &axes[3]};
 uint32_t card_ostat;
 uint16_t card_err_report;
 uint32_t card_ticks;

@@ -95,6 +95,9 @@ typedef struct {
 #define NO_MODE 0xFF
 
 extern axis_t axes[MAC4_NAXES];
+/* &axes[n] by a table: sizeof(axis_t) is no power of two, and the 68000
+ * would compute the product with a dozen shifts and adds where it matters */
+extern axis_t *const axis_at[MAC4_NAXES];
 extern uint32_t card_ostat;     /* overall status, manual 7.1.3 (RAS) */
 extern uint16_t card_err_report;/* 164/165 for the next command on any axis */
 extern uint32_t card_ticks;     /* servo ticks since reset */

@@ -38,13 +38,17 @@ static int64_t vq(unsigned n, int32_t v)
 
 /* The cached vq() values (axis_t q_*), fresh for this SP. */
 static void vq_compute(unsigned n, uint8_t turbo);
-static inline __attribute__((always_inline)) void vq_refresh(unsigned n)
+static inline __attribute__((always_inline)) void vq_refresh_x(axis_t *x, unsigned n)
 {
-    axis_t *x = &axes[n];
-    uint8_t turbo = (x->sstat & SB(TURBO)) != 0;
+#if MAC4_CARD == MAC4_CARD_STP
+    uint8_t turbo = (x->sstat & SB(TURBO)) != 0;   /* 4.1.3: x10 */
+#else
+    const uint8_t turbo = 0;
+#endif
     if (x->q_gen != par_gen[n] || x->q_turbo != turbo)
         vq_compute(n, turbo);
 }
+#define vq_refresh(n) vq_refresh_x(&axes[n], (n))
 
 static void vq_compute(unsigned n, uint8_t turbo)
 {
@@ -370,7 +374,7 @@ static void stop_done(unsigned n)
  * its target (prof_cruise); everything else in profile_modes(). */
 void motion_profile_tick(unsigned n)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     PIN_PTR(x);
     if (x->nx_ready)
         return;                                  /* the tick has not taken the last one */
@@ -381,7 +385,7 @@ void motion_profile_tick(unsigned n)
     }
 #if MAC4_CARD != MAC4_CARD_STP
     if (x->mode == M_POSITIONING && !x->stop_then && !x->done) {
-        vq_refresh(n);
+        vq_refresh_x(x, n);
         int64_t before = x->prof.pos;
         int32_t d;
         if (x->q_free32 &&
@@ -644,7 +648,7 @@ int16_t motion_servo_tick(unsigned n, unsigned phase)
  * reaction is within the servo period of the event, as in the tick. */
 void motion_supervise(unsigned n)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     PIN_PTR(x);
     if (x->mode == M_DISABLE || x->mode == M_TEST)
         return;
