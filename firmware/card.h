@@ -59,7 +59,8 @@ typedef struct {
      * (vq() of <pv>, <pa>, <pd>, <ed>), recomputed only when par_a or TURBO
      * changed; q_free: prof_free_distance(<pv>, <pd>) */
     int64_t q_pv, q_pa, q_pd, q_ed, q_free;
-    int64_t q_free32;   /* max(q_free, q_pv) when <pv> and <pa> fit 32 bits (prof_cruise32), else 0 */
+    int64_t q_hi, q_lo; /* target -/+ max(q_free, q_pv) when <pv> and <pa> fit 32 bits (prof_cruise32) */
+    uint8_t q_fast;     /* ... and then prof_cruise32 applies */
     uint16_t q_gen;
     uint8_t q_turbo;
     /* position controller (servo.c) */

@@ -58,9 +58,13 @@ static void vq_compute(unsigned n, uint8_t turbo)
     x->q_pd = vq(n, PAR(n, PD));
     x->q_ed = vq(n, PAR(n, ED));
     x->q_free = prof_free_distance(x->q_pv, x->q_pd);
-    x->q_free32 = 0;
-    if (x->q_pv < (1l << 30) && x->q_pa < (1l << 30) && x->q_free > 0)
-        x->q_free32 = x->q_free > x->q_pv ? x->q_free : x->q_pv;
+    x->q_fast = x->q_pv < (1l << 30) && x->q_pa < (1l << 30) && x->q_free > 0 &&
+                x->q_free < ((int64_t)1 << 60);
+    if (x->q_fast) {                             /* the positioning target's cruise limits */
+        int64_t f = x->q_free > x->q_pv ? x->q_free : x->q_pv;
+        x->q_hi = x->target - f;
+        x->q_lo = x->target + f;
+    }
     x->q_gen = par_gen[n];
     x->q_turbo = turbo;
 }
@@ -233,6 +237,7 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from)
     switch (mode) {
     case M_POSITIONING:
         x->target = target_of(n, PAR(n, AP));
+        x->q_gen = (uint16_t)~par_gen[n];         /* the cruise limits follow the target */
         break;
     case M_SEARCH_IDX_C:
     case M_SEARCH_IDX:
@@ -388,8 +393,8 @@ void motion_profile_tick(unsigned n)
         vq_refresh_x(x, n);
         int64_t before = x->prof.pos;
         int32_t d;
-        if (x->q_free32 &&
-            (d = prof_cruise32(&x->prof, x->target, (int32_t)x->q_pv, (int32_t)x->q_pa, x->q_free32)) != 0) {
+        if (x->q_fast &&
+            (d = prof_cruise32(&x->prof, x->q_hi, x->q_lo, (int32_t)x->q_pv, (int32_t)x->q_pa)) != 0) {
             rows_of(x, before, d);
             return;
         }

@@ -49,22 +49,23 @@ static inline int prof_cruise(prof_t *p, int64_t target, int64_t vmax, int64_t a
     return 0;
 }
 /* prof_cruise for vmax and acc below 2^30 and free >= vmax (so that the
- * step never reaches the target): the speeds in 32 bits, the same result.
- * Returns the step taken (0: does not apply, nothing changed). */
-static inline int32_t prof_cruise32(prof_t *p, int64_t target, int32_t vmax, int32_t acc, int64_t free)
+ * step never reaches the target), told the limits hi = target - free and
+ * lo = target + free (rest beyond free: pos < hi, or pos > lo going back):
+ * the speeds in 32 bits, one 64-bit comparison, the same result.  Returns
+ * the step taken (0: does not apply, nothing changed). */
+static inline int32_t prof_cruise32(prof_t *p, int64_t hi, int64_t lo, int32_t vmax, int32_t acc)
 {
-    int64_t rem = target - p->pos;
     int32_t v = (int32_t)p->vel, up;
     if (p->vel != v)
         return 0;
-    if (rem > free && v >= 0 && v <= vmax) {
+    if (p->pos < hi && v >= 0 && v <= vmax) {
         up = v < vmax - acc ? v + acc : vmax;
         if (up > 0) {
             p->vel = up;
             p->pos += up;
             return up;
         }
-    } else if (-rem > free && v <= 0 && -v <= vmax) {
+    } else if (p->pos > lo && v <= 0 && -v <= vmax) {
         up = -v < vmax - acc ? -v + acc : vmax;
         if (up > 0) {
             p->vel = -up;

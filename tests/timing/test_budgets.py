@@ -27,8 +27,6 @@ _cache = {}
 # "Where the firmware stands").  Lower them as the firmware improves.
 NOT_YET_MET = {
     ("servo_tick", "ssi"): 10600,          # cycles; 4000
-    ("profile", "inc"): 7350,              # cycles per 10 ms; 6000
-    ("profile", "ssi"): 7350,
     ("creep_need", "stp"): 18600,          # tick + 4 pulse interrupts; 16000 (1 kHz)
     ("cpu_load", "inc"): 63.5,             # percent; 25
 }

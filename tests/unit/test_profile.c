@@ -158,10 +158,44 @@ static void free_distance_needs_no_braking(void **state)
     }
 }
 
+/* prof_cruise32 (the profile generator's common step) does what
+ * prof_position_free does where it applies, and nothing where it does not. */
+static void cruise32_is_the_general_step(void **state)
+{
+    (void)state;
+    int applied = 0, declined = 0;
+    for (int i = 0; i < 200000; i++) {
+        int64_t vmax = Q(1 + rnd32() % 3000) + (rnd32() & 0xFFFF);
+        int64_t acc = Q(1 + rnd32() % 100) + (rnd32() & 0xFFFF);
+        int64_t dec = Q(1 + rnd32() % 100) + (rnd32() & 0xFFFF);
+        int64_t target = (int64_t)((int32_t)rnd32() >> 6) * 65536 + (rnd32() & 0xFFFF);
+        int64_t free = prof_free_distance(vmax, dec);
+        if (free == INT64_MAX)
+            continue;
+        int64_t f = free > vmax ? free : vmax;
+        prof_t a, b;
+        a.pos = target + ((int64_t)((int32_t)rnd32() >> 4) * 4);   /* near and far from the target */
+        a.vel = (int64_t)(((uint64_t)vmax * (rnd32() & 0x1FFFF)) >> 16) * (rnd32() & 1 ? 1 : -1);
+        b = a;
+        prof_t before = a;
+        int32_t d = prof_cruise32(&a, target - f, target + f, (int32_t)vmax, (int32_t)acc);
+        if (d) {
+            applied++;
+            assert_int_equal(prof_position_free(&b, target, vmax, acc, dec, free), 0);
+            assert_true(a.pos == b.pos && a.vel == b.vel && a.pos - before.pos == d);
+        } else {
+            declined++;
+            assert_true(a.pos == before.pos && a.vel == before.vel);
+        }
+    }
+    assert_true(applied > 1000 && declined > 1000);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(free_distance_needs_no_braking),
+        cmocka_unit_test(cruise32_is_the_general_step),
         cmocka_unit_test(lands_exactly_random),
         cmocka_unit_test(triangle_and_trapezoid_timing),
         cmocka_unit_test(fractional_velocities),
