@@ -115,7 +115,7 @@ void axis_prepare(unsigned n)
 {
     axis_t *x = &axes[n];
     int32_t et = PAR(n, ET);
-    x->mk = (MAC4_CARD != MAC4_CARD_SSI && et <= 1) ? MK_COUNTER : MK_OTHER;
+    x->mk = et > 2 ? MK_OTHER : MAC4_CARD == MAC4_CARD_SSI ? MK_SSI : et <= 1 ? MK_COUNTER : MK_OTHER;
     x->linear = PAR(n, SH) == 1;
     x->cr = PAR(n, CR);
     x->lp = PAR(n, LP);
@@ -374,6 +374,7 @@ static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned
     PIN_PTR(x);
     uint8_t mk = x->mk_tick;                      /* MK_NONE before INIT (4.9) */
     if (mk != MK_NONE) {
+#if MAC4_CARD != MAC4_CARD_SSI
         if (mk == MK_COUNTER) {
             /* internal 24-bit counter, relative (table 4.3): the common
              * case.  One word: its difference is the period's motion
@@ -381,17 +382,16 @@ static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned
             uint32_t c = x->counter;
             int32_t d = (int16_t)(uint16_t)(hal_rd16(AX_REG(n, AX_CNT_LIVE)) - (uint16_t)c);
             x->counter = (c + (uint32_t)d) & 0xFFFFFFu;   /* RCT, RED: card_supervise */
-            x->meas += d;                         /* RAV: card_supervise */
-            int32_t pos = x->pos + d;
-            if (!x->linear) {                     /* circular: 0 .. <cr>-1 (4.3.1.2) */
-                while (pos >= x->cr)
-                    pos -= x->cr;
-                while (pos < 0)
-                    pos += x->cr;
-            }
-            x->pos = pos;
+            measure_apply(x, d);
         } else {
-            measure_axis(n);                      /* SSI, external (measure.c) */
+#else
+        if (mk == MK_SSI) {                       /* the encoder at the connector */
+            int32_t d;
+            if (measure_ssi(x, n, &d) == 0)
+                measure_apply(x, d);
+        } else {
+#endif
+            measure_axis(n);                      /* external (measure.c) */
         }
     }
     int16_t u = 0;
@@ -517,10 +517,10 @@ static inline __attribute__((always_inline)) void supervise_axis(unsigned n, uns
 #else
     (void)ph;
 #endif
-    if (x->mk_tick == MK_COUNTER) {               /* RED, RAV: the tick keeps only counter and meas */
-        x->raw = x->counter;
+    if (x->mk_tick != MK_NONE)                    /* RAV: the tick keeps only meas */
         x->vel = x->meas - x->meas_sup;
-    }
+    if (x->mk_tick == MK_COUNTER)                 /* RED: the counter path keeps only the counter */
+        x->raw = x->counter;
     x->meas_sup = x->meas;
     x->mk_tick = (x->ustat & UB(INIT)) ? x->mk : MK_NONE;
     axis_inputs(n);

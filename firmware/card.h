@@ -87,6 +87,7 @@ typedef struct {
 #define MK_COUNTER 0    /* internal 24-bit counter: the fast path */
 #define MK_OTHER 1      /* SSI, external VMEbus or DPRAM: measure.c */
 #define MK_NONE 2       /* not initialised: position reads 0 (4.9) */
+#define MK_SSI 3        /* MAC4-SSI, the encoder at the connector: measure_ssi() in the tick */
 
 #define STOP_NONE 0
 #define STOP_DISABLE 1  /* emergency ramp <ed>, then disable */

@@ -14,6 +14,9 @@
 #include "stepper.h"
 #endif
 
+meas_cfg_t meas_cfg[MAC4_NAXES];
+#define mc meas_cfg
+
 static uint32_t eb_mask(int32_t eb) { return eb >= 32 ? 0xFFFFFFFFu : (((uint32_t)1 << eb) - 1u); }
 
 /* Sign-extend the difference of two eb-bit counter readings: correct as
@@ -26,35 +29,7 @@ static int32_t delta_eb(uint32_t now, uint32_t last, int32_t eb)
     return (int32_t)d;
 }
 
-static inline __attribute__((always_inline)) uint32_t gray_to_binary(uint32_t g)
-{
-    g ^= g >> 16;
-    g ^= g >> 8;
-    g ^= g >> 4;
-    g ^= g >> 2;
-    g ^= g >> 1;
-    return g;
-}
 
-/* ---- what INIT prepares for the tick (measure_init) ------------------------
- * Where an external position is read, validated once at INIT so that
- * read_raw() never touches any other address (whatever <ea> holds later),
- * and the counter range in force, so that the tick needs no division. */
-enum { EXT_NONE, EXT_DPRAM, EXT_VME16, EXT_VME32, EXT_SSI };
-typedef struct {
-    uint32_t addr;      /* EXT_DPRAM: offset of the value; EXT_VME*: window address of the MSW */
-    uint32_t lim;       /* the largest valid value: <ec> - 1, or 2^<eb> - 1 */
-    int32_t range;      /* relative modulo <ec> when <ec> < 2^<eb>, else 0 (2^<eb>: delta_eb) */
-    int32_t half;       /* range / 2 */
-    uint32_t mask;      /* EXT_SSI: 2^<eb> - 1 */
-    uint32_t sign;      /* EXT_SSI relative: bit <eb>-1, the sign of a delta (0: 32 bits) */
-    uint16_t page;      /* EXT_VME*: VME_PAGE, A23-A20 */
-    uint8_t path;       /* EXT_*; EXT_NONE for the INC/STP counter and a refused <ea> */
-    uint8_t sc;         /* EXT_SSI: right shifts <sc> (4.4.2.2) */
-    uint8_t abs;        /* absolute measurement (<et> 2, 4) */
-    uint8_t failed;     /* an encoder error was raised and the axis has not run since (6.3.8) */
-} meas_cfg_t;
-static meas_cfg_t mc[MAC4_NAXES];
 
 /* The host's own DPRAM after manual table 3.1 (docs/memory-map.md): per
  * axis the flag field and counter content from $3308 + n*$400 to the end of
@@ -141,25 +116,12 @@ static int read_raw(unsigned n, uint32_t *raw)
     return 0;
 }
 
-/* An absolute encoder on a circular axis (4.3.1.2): the reading goes round
- * with the axis, 0 .. <cr>-1, so the motion since the last reading is the
- * shorter way round (less than half a turn per tick); the measured position
- * runs on across the wrap, the displayed one wraps (measure_axis). */
-static int32_t circular_delta(const axis_t *x, uint32_t raw)
-{
-    int32_t d = (int32_t)(raw - x->counter), half = x->cr >> 1;
-    if (d > half)
-        d -= x->cr;
-    else if (d < -half)
-        d += x->cr;
-    return d;
-}
 
 /* 6.3.8: encoder_f and logo_f, 163 for the next command, disabled without a
  * ramp.  Once: while the axis stays disabled after it, a measurement that
  * keeps failing raises nothing more, so C, DEINIT and new parameters get
  * through; enabled again, the next failure raises it again. */
-static void encoder_error(unsigned n)
+void measure_encoder_error(unsigned n)
 {
     if (mc[n].failed)
         return;
@@ -182,57 +144,22 @@ void measure_axis(unsigned n)
         d = (int32_t)((raw - x->counter) << 8) >> 8;
         x->raw = x->counter = raw;
     } else if (mc[n].path == EXT_SSI) {
-        /* SSI at the connector, everything prepared at INIT: the tick's path.
-         * The receiver started at the timer's expiry (AX_CTRL_SSI_SYNC) */
-        meas_cfg_t *c = &mc[n];
-        if (x->mode != M_DISABLE)
-            c->failed = 0;
-        for (unsigned i = 0; (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY) && i < 200; i++)
-            ;
-        uint32_t hi = hal_rd16(AX_REG(n, AX_SSI_HI));
-        uint32_t raw = (((hi << 16) | hal_rd16(AX_REG(n, AX_SSI_LO))) >> c->sc) & c->mask;
-        if (x->ustat & UB(GRAY))
-            raw = gray_to_binary(raw);
-        if (raw > c->lim) {                             /* beyond <ec> (4.4.2.1, 6.3.8) */
-            x->raw = raw;
-            encoder_error(n);
+        if (measure_ssi(x, n, &d))
             return;
-        }
-        /* absolute on a linear axis: the reading is the position; on a
-         * circular one the encoder's wrap is the axis' (4.3.1.2): the delta
-         * across it, as in relative mode, keeps the setpoint frame whole */
-        if (c->abs && x->linear) {
-            d = (int32_t)(raw - (uint32_t)x->meas);
-        } else if (c->abs) {
-            d = circular_delta(x, raw);
-        } else if (c->range) {                          /* relative, wraps at <ec> */
-            d = (int32_t)(raw - x->counter);
-            if (d > c->half)
-                d -= c->range;
-            else if (d < -c->half)
-                d += c->range;
-        } else {                                        /* relative, wraps at 2^<eb> */
-            uint32_t u = (raw - x->counter) & c->mask;
-            if (u & c->sign)
-                u |= ~c->mask;
-            d = (int32_t)u;
-        }
-        x->raw = raw;
-        x->counter = raw;
     } else {
         meas_cfg_t *c = &mc[n];
         uint32_t raw;
         if (x->mode != M_DISABLE)
             c->failed = 0;                              /* the axis runs: a failure counts again */
         if (read_raw(n, &raw)) {
-            encoder_error(n);
+            measure_encoder_error(n);
             return;
         }
         int32_t et = PAR(n, ET), eb = PAR(n, EB);
         raw &= eb_mask(eb);
         if (raw > c->lim) {                             /* beyond <ec> (4.4.2.1, 6.3.8) */
             x->raw = raw;                               /* RED shows what was read */
-            encoder_error(n);
+            measure_encoder_error(n);
             return;
         }
         if ((et == 2 || et == 4) && (x->linear || MAC4_CARD == MAC4_CARD_STP)) {   /* absolute */
@@ -261,16 +188,7 @@ void measure_axis(unsigned n)
     else if (x->ustat & UB(REV_O))
         d = -d;                                         /* the step counter follows DIR (USR) */
 #endif
-    x->meas += d;
-    x->vel = d;
-    int32_t pos = x->pos + d;
-    if (!x->linear) {                                   /* circular: 0 .. <cr>-1 (4.3.1.2) */
-        while (pos >= x->cr)
-            pos -= x->cr;
-        while (pos < 0)
-            pos += x->cr;
-    }
-    x->pos = pos;
+    measure_apply(x, d);
 }
 
 void measure_init(unsigned n)

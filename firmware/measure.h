@@ -2,11 +2,119 @@
 #ifndef MEASURE_H
 #define MEASURE_H
 #include <stdint.h>
+#include "hal.h"
+#include "card.h"
 
 void measure_axis(unsigned n);     /* read and process one axis */
 void measure_init(unsigned n);     /* INIT: derive <ea>/<eb>/<ec>, zero relative position */
 /* May an external position (<et> 3/4) be read at <ea> with <eb> significant
  * bits (eb 0: not known yet)?  The rule of docs/interpretations.md. */
 int measure_ea_ok(uint32_t ea, int32_t eb);
+
+/* ---- what INIT prepares for the tick (measure_init) ------------------------
+ * Where an external position is read, validated once at INIT so that
+ * read_raw() never touches any other address (whatever <ea> holds later),
+ * and the counter range in force, so that the tick needs no division. */
+enum { EXT_NONE, EXT_DPRAM, EXT_VME16, EXT_VME32, EXT_SSI };
+typedef struct {
+    uint32_t addr;      /* EXT_DPRAM: offset of the value; EXT_VME*: window address of the MSW */
+    uint32_t lim;       /* the largest valid value: <ec> - 1, or 2^<eb> - 1 */
+    int32_t range;      /* relative modulo <ec> when <ec> < 2^<eb>, else 0 (2^<eb>: delta_eb) */
+    int32_t half;       /* range / 2 */
+    uint32_t mask;      /* EXT_SSI: 2^<eb> - 1 */
+    uint32_t sign;      /* EXT_SSI relative: bit <eb>-1, the sign of a delta (0: 32 bits) */
+    uint16_t page;      /* EXT_VME*: VME_PAGE, A23-A20 */
+    uint8_t path;       /* EXT_*; EXT_NONE for the INC/STP counter and a refused <ea> */
+    uint8_t sc;         /* EXT_SSI: right shifts <sc> (4.4.2.2) */
+    uint8_t abs;        /* absolute measurement (<et> 2, 4) */
+    uint8_t failed;     /* an encoder error was raised and the axis has not run since (6.3.8) */
+} meas_cfg_t;
+extern meas_cfg_t meas_cfg[MAC4_NAXES];
+void measure_encoder_error(unsigned n);   /* 6.3.8, once (measure.c) */
+
+static inline __attribute__((always_inline)) uint32_t gray_to_binary(uint32_t g)
+{
+    g ^= g >> 16;
+    g ^= g >> 8;
+    g ^= g >> 4;
+    g ^= g >> 2;
+    g ^= g >> 1;
+    return g;
+}
+
+/* An absolute encoder on a circular axis (4.3.1.2): the reading goes round
+ * with the axis, 0 .. <cr>-1, so the motion since the last reading is the
+ * shorter way round (less than half a turn per tick); the measured position
+ * runs on across the wrap, the displayed one wraps (measure_axis). */
+static int32_t circular_delta(const axis_t *x, uint32_t raw)
+{
+    int32_t d = (int32_t)(raw - x->counter), half = x->cr >> 1;
+    if (d > half)
+        d -= x->cr;
+    else if (d < -half)
+        d += x->cr;
+    return d;
+}
+
+/* SSI at the connector, everything prepared at INIT (the tick's path and
+ * measure_axis'): the receiver read the encoder at the timer's expiry
+ * (AX_CTRL_SSI_SYNC) and the tick came when it was done (TMR_CTRL_SSI_WAIT;
+ * the poll is the safety net).  0 and the motion since the last reading, or
+ * -1 after an encoder error. */
+static inline __attribute__((always_inline)) int measure_ssi(axis_t *x, unsigned n, int32_t *dp)
+{
+    meas_cfg_t *c = &meas_cfg[n];
+    if (x->mode != M_DISABLE)
+        c->failed = 0;                                  /* the axis runs: a failure counts again */
+    for (unsigned i = 0; (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY) && i < 200; i++)
+        ;
+    uint32_t hi = hal_rd16(AX_REG(n, AX_SSI_HI));
+    uint32_t raw = (((hi << 16) | hal_rd16(AX_REG(n, AX_SSI_LO))) >> c->sc) & c->mask;
+    if (x->ustat & UB(GRAY))
+        raw = gray_to_binary(raw);
+    if (raw > c->lim) {                                 /* beyond <ec> (4.4.2.1, 6.3.8) */
+        x->raw = raw;
+        measure_encoder_error(n);
+        return -1;
+    }
+    int32_t d;
+    /* absolute on a linear axis: the reading is the position; on a circular
+     * one the encoder's wrap is the axis' (4.3.1.2) */
+    if (c->abs && x->linear) {
+        d = (int32_t)(raw - (uint32_t)x->meas);
+    } else if (c->abs) {
+        d = circular_delta(x, raw);
+    } else if (c->range) {                              /* relative, wraps at <ec> */
+        d = (int32_t)(raw - x->counter);
+        if (d > c->half)
+            d -= c->range;
+        else if (d < -c->half)
+            d += c->range;
+    } else {                                            /* relative, wraps at 2^<eb> */
+        uint32_t u = (raw - x->counter) & c->mask;
+        if (u & c->sign)
+            u |= ~c->mask;
+        d = (int32_t)u;
+    }
+    x->raw = raw;
+    x->counter = raw;
+    *dp = d;
+    return 0;
+}
+
+/* The motion d into the measured position and the displayed one, which a
+ * circular axis keeps in 0 .. <cr>-1 (4.3.1.2).  RAV: card_supervise. */
+static inline __attribute__((always_inline)) void measure_apply(axis_t *x, int32_t d)
+{
+    x->meas += d;
+    int32_t pos = x->pos + d;
+    if (!x->linear) {
+        while (pos >= x->cr)
+            pos -= x->cr;
+        while (pos < 0)
+            pos += x->cr;
+    }
+    x->pos = pos;
+}
 
 #endif
