@@ -333,7 +333,7 @@ static void publish(unsigned n)
     hal_wr32(d + DPA_POS, (uint32_t)x->pos);
     /* in the frame of the position (with <ao>, 4.3.2), so that setpoint -
      * position is the following error for the host too */
-    hal_wr32(d + DPA_SETPOINT, (uint32_t)(x->pos + x->ferr));
+    hal_wr32(d + DPA_SETPOINT, (uint32_t)pos_add(x->pos, x->ferr));
     hal_wr32(d + DPA_FERR, (uint32_t)x->ferr);
 #if MAC4_CARD == MAC4_CARD_STP
     hal_wr32(d + DPA_OUT, (uint32_t)stp_hz_now(n));   /* ROUT: Hz */
@@ -414,7 +414,7 @@ static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned
             x->br_pos += v;
             sp = (int32_t)((x->br_pos + 0x8000) >> 16);
         }
-        u = servo_step(&x->servo, &x->gains, sp - x->meas);
+        u = servo_step(&x->servo, &x->gains, pos_sub(sp, x->meas));
         if (x->ustat & UB(REV_O))                 /* USR (4.2) */
             u = (int16_t)(u == SERVO_OUT_MIN ? SERVO_OUT_MAX : -u);
     }
@@ -499,7 +499,7 @@ static void tick_result(axis_t *x, unsigned ph)
         x->ferr = 0;
     } else if (x->mode != M_TEST) {
         x->setpoint = x->braking ? (int32_t)((x->br_pos + 0x8000) >> 16) : x->sp_now[ph];
-        x->ferr = x->setpoint - x->meas;
+        x->ferr = pos_sub(x->setpoint, x->meas);
     }
 }
 #endif

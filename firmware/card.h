@@ -96,6 +96,11 @@ typedef struct {
 
 #define NO_MODE 0xFF
 
+/* Positions are 32-bit and wrap as on the 68000: their differences and sums
+ * modulo 2^32, without C's undefined signed overflow. */
+static inline int32_t pos_sub(int32_t a, int32_t b) { return (int32_t)((uint32_t)a - (uint32_t)b); }
+static inline int32_t pos_add(int32_t a, int32_t b) { return (int32_t)((uint32_t)a + (uint32_t)b); }
+
 extern axis_t axes[MAC4_NAXES];
 /* &axes[n] by a table: sizeof(axis_t) is no power of two, and the 68000
  * would compute the product with a dozen shifts and adds where it matters */

@@ -106,8 +106,8 @@ static inline __attribute__((always_inline)) int measure_ssi(axis_t *x, unsigned
  * circular axis keeps in 0 .. <cr>-1 (4.3.1.2).  RAV: card_supervise. */
 static inline __attribute__((always_inline)) void measure_apply(axis_t *x, int32_t d)
 {
-    x->meas += d;
-    int32_t pos = x->pos + d;
+    x->meas = (int32_t)((uint32_t)x->meas + (uint32_t)d);   /* modulo 2^32, as on the 68000 */
+    int32_t pos = (int32_t)((uint32_t)x->pos + (uint32_t)d);
     if (!x->linear) {
         while (pos >= x->cr)
             pos -= x->cr;

@@ -306,12 +306,14 @@ static inline __attribute__((always_inline)) void rows_of(axis_t *x, int64_t bef
     int32_t st = d >> 2, bi = (int32_t)(before >> 16);
     int32_t q0 = (int32_t)(uint16_t)before + 0x8000, q = q0;
     q += st;
-    r[0] = bi + (q >> 16);
+    /* positions are modulo 2^32 as on the 68000: unsigned sums, no
+     * undefined overflow where a setpoint passes +-2^31 */
+    r[0] = (int32_t)((uint32_t)bi + (uint32_t)(q >> 16));
     q += st;
-    r[1] = bi + (q >> 16);
+    r[1] = (int32_t)((uint32_t)bi + (uint32_t)(q >> 16));
     q += st;
-    r[2] = bi + (q >> 16);
-    r[3] = bi + ((q0 + d) >> 16);
+    r[2] = (int32_t)((uint32_t)bi + (uint32_t)(q >> 16));
+    r[3] = (int32_t)((uint32_t)bi + (uint32_t)((q0 + d) >> 16));
     x->nx_ready = 1;
 }
 
@@ -349,11 +351,11 @@ static void next_segment(axis_t *x, int64_t before)
     uint16_t f = x->nx_start_f;
     for (unsigned k = 0; k < PROFILE_DIVIDER - 1u; k++) {
         uint32_t f32 = (uint32_t)f + x->nx_st_f;
-        i += x->nx_st_i + (int32_t)(f32 >> 16);
+        i = (int32_t)((uint32_t)i + (uint32_t)x->nx_st_i + (f32 >> 16));
         f = (uint16_t)f32;
-        row[k] = i + (f >= 0x8000u);
+        row[k] = (int32_t)((uint32_t)i + (f >= 0x8000u));
     }
-    row[PROFILE_DIVIDER - 1u] = x->nx_end_i + (x->nx_end_f >= 0x8000u);
+    row[PROFILE_DIVIDER - 1u] = (int32_t)((uint32_t)x->nx_end_i + (x->nx_end_f >= 0x8000u));
 #endif
     x->nx_ready = 1;
 }
@@ -635,11 +637,11 @@ int16_t motion_servo_tick(unsigned n, unsigned phase)
             x->sp_f = x->start_f;
         }
         uint32_t f = (uint32_t)x->sp_f + x->st_f;
-        x->sp_i += x->st_i + (int32_t)(f >> 16);
+        x->sp_i = (int32_t)((uint32_t)x->sp_i + (uint32_t)x->st_i + (f >> 16));   /* modulo 2^32 */
         x->sp_f = (uint16_t)f;
     }
-    x->setpoint = x->sp_i + (x->sp_f >= 0x8000u);
-    x->ferr = x->setpoint - x->meas;
+    x->setpoint = pos_add(x->sp_i, x->sp_f >= 0x8000u);
+    x->ferr = pos_sub(x->setpoint, x->meas);
     stp_servo(x, n, phase, old_i, old_f);        /* step rate, creep phase, RFE (stepper.h) */
     return 0;   /* the step rate goes out in axis_output (stp_output) */
 }

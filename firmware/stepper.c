@@ -523,8 +523,8 @@ static inline __attribute__((always_inline)) int creep_tick(axis_t *x, stp_t *s,
     uint32_t reg = AX_REG(n, 0);
     if (s->creep == CREEP_TRIM) {
         if (x->sp_i == old_i && x->sp_f == old_f && !(x->in & AX_IN_PDONE)) {
-            x->setpoint = old_i + (old_f >= 0x8000u);
-            x->ferr = x->setpoint - x->meas;
+            x->setpoint = pos_add(old_i, old_f >= 0x8000u);
+            x->ferr = pos_sub(x->setpoint, x->meas);
             return 1;                            /* the trim's pulses still to come */
         }
         creep_stop(x, s, reg);                   /* done, or the profile moves on */
@@ -551,8 +551,8 @@ static inline __attribute__((always_inline)) int creep_tick(axis_t *x, stp_t *s,
         left = hal_rd16(reg + AX_PULSES);
     }
     int32_t done = (int32_t)(s->creep_n - left);
-    x->setpoint = s->creep_base + (s->creep_dir < 0 ? -done : done);
-    x->ferr = x->setpoint - x->meas;
+    x->setpoint = pos_add(s->creep_base, s->creep_dir < 0 ? -done : done);
+    x->ferr = pos_sub(x->setpoint, x->meas);
     return 1;
 }
 
@@ -752,7 +752,7 @@ void stp_servo_full(axis_t *x, unsigned n, unsigned phase, int32_t old_i, uint16
         d = (int32_t)((uint32_t)di << 16) + (int32_t)x->sp_f - (int32_t)old_f;
     int32_t sp = old_i + (old_f >= 0x8000u);
     x->setpoint = sp;
-    x->ferr = sp - x->meas;
+    x->ferr = pos_sub(sp, x->meas);
     if (d == 0) {
         /* stand-still: the step counter must read the setpoint (stp_trim) */
         if (x->ferr && !s->rate && !x->prof.vel && !(stp_conv & (1u << n)))

@@ -147,9 +147,9 @@ static inline __attribute__((always_inline)) void stp_servo(axis_t *x, unsigned 
          * axis by now (the steps of this tick are still to come, 4.8.1) */
         int32_t d = (int32_t)((uint32_t)di << 16) + (int32_t)x->sp_f - (int32_t)old_f;
         if (d > 0 ? s->dir > 0 : d < 0 && s->dir < 0) {
-            int32_t sp = old_i + (old_f >= 0x8000u);
+            int32_t sp = pos_add(old_i, old_f >= 0x8000u);
             x->setpoint = sp;
-            x->ferr = sp - x->meas;
+            x->ferr = pos_sub(sp, x->meas);
             /* the rate register for |d| Q16 steps in this tick: |d| / 400
              * (stp_rate_of); the carry (< clocks) cannot wrap |d| < 2^31 */
             uint32_t t = (uint32_t)(d < 0 ? -d : d) + s->carry;

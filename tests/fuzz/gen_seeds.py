@@ -216,14 +216,14 @@ VEC_EA = next(a for a in range(4, 0x400, 2) if (a * 131 + 7) & 0x80) + 2
 # name: (target, cards, input).  Each fails with FUZZ_STRICT=1 while its bug
 # is open; fixed, it belongs in the corpus.
 KNOWN = {
-    # K3: position tracking to a far position: the setpoint interpolation
-    # overflows 32 bits (undefined behaviour in C)
-    "K3-setpoint-overflow": ("cmd", "inc ssi", c_mode(1, 62) + c_cmd(1, "WAT", 0xC2212A2B) + c_run(200)),
 }
 
 # Reproducers of bugs fixed since: seeds of their target now (corpus/TARGET/
 # seed-NAME, replayed on every card), so that they stay fixed.
 FIXED = {
+    # K3: position tracking to a far position: the setpoint interpolation
+    # overflowed 32 bits (undefined behaviour in C); positions wrap modulo 2^32 now
+    "K3-setpoint-overflow": ("cmd", c_mode(1, 62) + c_cmd(1, "WAT", 0xC2212A2B) + c_run(200)),
     # K1: <ea> unchecked: ET 3 with the default <ea> 0 read and wrote $FFFFFE
     "K1-ea-zero": ("queue", q_send(0, "UWET", 3) + q_send(0, "INIT") + q_passes(8)),
     # K1: an odd <ea>: address error on the 68000
