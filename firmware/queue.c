@@ -3,13 +3,18 @@
 
 void q_create(uint32_t q)
 {
-    /* queueopen() of manual 7.3.2: executed by the card only. */
-    hal_wr32(q + QH_BASE, Q_HEADER_SIZE);
+    /* queueopen() of manual 7.3.2: executed by the card only.  The DPRAM
+     * keeps the old header across a reset and the host may be polling it:
+     * the header is made invalid first and valid last, so the host never
+     * sees a sane header whose front and rear differ over stale elements
+     * (new front with the old rear, or the reverse). */
+    hal_wr32(q + QH_BASE, 0);
     hal_wr32(q + QH_FRONT, 0);
     hal_wr32(q + QH_REAR, 0);
     hal_wr32(q + QH_FREE, 0);
     hal_wr32(q + QH_WIDTH, Q_WIDTH);
     hal_wr32(q + QH_NEL, Q_NEL);
+    hal_wr32(q + QH_BASE, Q_HEADER_SIZE);
 }
 
 /* The host may write anything into the header; the card trusts only the
