@@ -106,8 +106,13 @@ static uint32_t wd_last_us;     /* time of the last command, for <wd> (kept whil
 static uint8_t wd_fired;
 static uint8_t turn;            /* which interface is asked first this pass */
 
-static mac4_msg_t held;          /* off-fly: a command waiting for the move (5.15) */
-static uint8_t have_held;
+/* Off-fly (5.15, docs/interpretations.md): commands for an axis whose move
+ * runs off-fly wait here, in the order they came, until the move ends;
+ * reads and C are answered at once, other axes are not held up. */
+#define HOLD_MAX CMD_HOLD_MAX
+static mac4_msg_t held[HOLD_MAX];
+static uint8_t n_held;
+static uint8_t held_axes;       /* bit n: a command for axis n waits in held[] */
 
 void cmd_reset(void)
 {
@@ -116,11 +121,17 @@ void cmd_reset(void)
     mr_pending = 0;
     wd_fired = 0;
     wd_last_us = 0;
-    have_held = 0;
+    n_held = 0;
+    held_axes = 0;
 }
 
 int cmd_mr_pending(void) { return mr_pending; }
 
+unsigned cmd_held(const mac4_msg_t **list)
+{
+    *list = held;
+    return n_held;
+}
 
 static uint32_t now_us(void)
 {
@@ -565,6 +576,59 @@ static void watchdog_check(void)
         watchdog_fire();
 }
 
+/* ---- off-fly: commands in series per axis (5.15) -------------------------- */
+/* The axis' move runs off-fly: its commands wait for the end of it. */
+static inline __attribute__((always_inline)) int axis_in_series(unsigned a)
+{
+    return !(axes[a].ustat & UB(ON_FLY)) && motion_busy(a);
+}
+
+/* Does this command wait behind its axis' off-fly move or behind commands
+ * of its axis that wait already?  Reads and C never do. */
+static int must_wait(const mac4_msg_t *m)
+{
+    unsigned a = m->axis;
+    if (a >= MAC4_NAXES || (!(held_axes & (1u << a)) && !axis_in_series(a)))
+        return 0;
+    cmd_t c = cmd_of(m->code);
+    return !(kind_is_read(c.kind) || (c.kind == CK_GEN && c.arg == CI_C));
+}
+
+static __attribute__((noinline)) void hold(const mac4_msg_t *m)
+{
+    held[n_held++] = *m;
+    held_axes |= (uint8_t)(1u << m->axis);
+    if (PAR(0, WD) > 0)
+        wd_last_us = now_us();      /* a held command counts for the watchdog when it comes */
+}
+
+/* The oldest held command whose axis is free now, executed: 1; or 0. */
+static __attribute__((noinline)) int release_held(void)
+{
+    unsigned blocked = 0;
+    for (unsigned i = 0; i < n_held; i++) {
+        unsigned a = held[i].axis, bit = 1u << a;
+        if (blocked & bit)
+            continue;               /* an older command of this axis waits */
+        if (axis_in_series(a)) {
+            blocked |= bit;
+            continue;
+        }
+        mac4_msg_t m = held[i];
+        unsigned mask = 0;
+        for (unsigned k = 0; k + 1u < n_held; k++) {
+            if (k >= i)
+                held[k] = held[k + 1u];
+            mask |= 1u << held[k].axis;
+        }
+        n_held--;
+        held_axes = (uint8_t)mask;
+        execute_and_respond(&m);
+        return 1;
+    }
+    return 0;
+}
+
 /* ---- the main loop's part ------------------------------------------------- */
 void cmd_poll(void)
 {
@@ -573,12 +637,11 @@ void cmd_poll(void)
     watchdog_check();
     if (mr_pending)
         return;             /* the watchdog resets the card soon */
-    if (have_held) {        /* nothing overtakes a held command */
-        if (motion_busy(held.axis) && !(axes[held.axis].ustat & UB(ON_FLY)))
+    if (n_held) {
+        if (release_held())
             return;
-        have_held = 0;
-        execute_and_respond(&held);
-        return;
+        if (n_held == HOLD_MAX)
+            return;         /* no room to hold another: the interfaces wait */
     }
     /* One command per pass, alternating between the two interfaces so
      * neither can starve the other. */
@@ -610,11 +673,8 @@ void cmd_poll(void)
         have = serial_get(&in);
     if (!have)
         return;
-    if (in.axis < MAC4_NAXES && !(axes[in.axis].ustat & UB(ON_FLY)) && motion_busy(in.axis)) {
-        held = in;                       /* off-fly: strictly in series (5.15) */
-        have_held = 1;
-        if (PAR(0, WD) > 0)
-            wd_last_us = now_us();
+    if (must_wait(&in)) {
+        hold(&in);          /* off-fly: strictly in series for its axis (5.15) */
         return;
     }
     execute_and_respond(&in);
