@@ -314,6 +314,9 @@ static int do_execute(unsigned a)
     } else {
         axis_set_mode(a, mode);
         motion_start(a, mode, from);
+        /* <sw> beside the gains motion_start() set (to move into motion.c,
+         * right after its servo_set_gains(); then this line goes) */
+        servo_set_limit(&axes[a].gains, PAR(a, SW));
     }
     return 0;
 }
