@@ -27,11 +27,10 @@
 typedef struct {
     int16_t ga, ze, po, ki;
     uint8_t kisc;
-    int16_t e_lim;          /* derived: |e| limit so that K*|e| <= 2^16 LSB */
     uint8_t full;           /* derived: <ze>, <po> or <ki> set, or a limit (servo_step_full) */
-    uint8_t limited;        /* <sw> below the DAC range: the output within -sw..sw */
-    int16_t sw;             /* ... that <sw> (only while limited) */
-} servo_gains_t;
+    int16_t e_lim;          /* derived: |e| limit so that K*|e| <= 2^16 LSB */
+    int16_t sw_lim;         /* <sw> + 1 below the DAC range (output within -sw..sw), 0: none */
+} servo_gains_t;            /* 14 bytes, as before <sw>: sizeof(axis_t) is in the tick's index arithmetic */
 
 typedef struct {
     int32_t u1;             /* Q8 */

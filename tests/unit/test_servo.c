@@ -205,7 +205,7 @@ static void torque_limit_in_both_paths(void **st)
         servo_gains_t h = plain;
         servo_set_limit(&h, full_range[i]);
         assert_int_equal(h.full, 0);
-        assert_int_equal(h.limited, 0);
+        assert_int_equal(h.sw_lim, 0);
         servo_reset(&a);
         servo_reset(&c);
         for (long k = 0; k < 5000; k++) {
@@ -225,7 +225,7 @@ static void torque_limit_in_both_paths(void **st)
     for (int k = 0; k < 100; k++)
         assert_true(abs(servo_step(&a, &g, k % 2 ? 3000 : -3000)) <= 50);
     servo_set_gains(&g, 80, 128, 0, 41, 3);
-    assert_int_equal(g.limited, 0);
+    assert_int_equal(g.sw_lim, 0);
     servo_reset(&a);
     assert_int_equal(servo_step(&a, &g, 3000), 2047);
 }
