@@ -25,6 +25,6 @@ int q_check(uint32_t q)
     return q_header_at(q, &f, &r);
 }
 
-int q_get(uint32_t q, mac4_msg_t *m) { return q_get_at(q, m); }
+int q_get(uint32_t q, mac4_msg_t *m) { return q_get_at(q, m, 1); }
 
 int q_put(uint32_t q, const mac4_msg_t *m) { return q_put_at(q, m->axis, m->code, m->param, m->source); }

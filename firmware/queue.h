@@ -11,6 +11,14 @@
 #include <stdint.h>
 #include "hal.h"
 
+/* Keep an address in an address register, so the field accesses become
+ * displacements from it (68000 target; nothing natively). */
+#if defined(HAL_TARGET)
+#define IN_ADDR_REG(v) __asm__("" : "+a"(v))
+#else
+#define IN_ADDR_REG(v) ((void)0)
+#endif
+
 typedef struct {
     uint8_t axis;
     uint16_t code;
@@ -67,19 +75,30 @@ static inline uint16_t q_elem_off(uint16_t i)
     return (uint16_t)(Q_HEADER_SIZE + i2 + (uint16_t)(i2 << 2));
 }
 
-static inline __attribute__((always_inline)) int q_get_at(uint32_t q, mac4_msg_t *m)
+/* Take the element at rear (the header checked, front != rear); its
+ * source byte only when want_source (the command path answers a VME
+ * command on the VMEbus whatever that byte says). */
+static inline __attribute__((always_inline)) void q_take_at(uint32_t q, uint16_t rear, mac4_msg_t *m,
+                                                            int want_source)
+{
+    uint32_t e = q + q_elem_off(rear);
+    IN_ADDR_REG(e);
+    m->axis = hal_rd8(e + MSG_AXIS);
+    m->code = hal_rd16(e + MSG_CODE);
+    m->param = hal_rd32(e + MSG_PARAM);
+    if (want_source)
+        m->source = hal_rd8(e + MSG_SOURCE);
+    hal_wr32(q + QH_REAR, rear == Q_NEL - 1u ? 0u : (uint32_t)rear + 1u);
+}
+
+static inline __attribute__((always_inline)) int q_get_at(uint32_t q, mac4_msg_t *m, int want_source)
 {
     uint16_t front, rear;
     if (q_header_at(q, &front, &rear))
         return Q_CORRUPT;
     if (front == rear)
         return Q_EMPTY;
-    uint32_t e = q + q_elem_off(rear);
-    m->axis = hal_rd8(e + MSG_AXIS);
-    m->code = hal_rd16(e + MSG_CODE);
-    m->param = hal_rd32(e + MSG_PARAM);
-    m->source = hal_rd8(e + MSG_SOURCE);
-    hal_wr32(q + QH_REAR, rear == Q_NEL - 1u ? 0u : (uint32_t)rear + 1u);
+    q_take_at(q, rear, m, want_source);
     return Q_OK;
 }
 
@@ -94,6 +113,7 @@ static inline __attribute__((always_inline)) int q_put_at(uint32_t q, uint8_t ax
     if (next == rear)
         return Q_FULL;
     uint32_t e = q + q_elem_off(front);
+    IN_ADDR_REG(e);
     /* the element's five words: axis and an empty byte, code, parameter
      * (two words in one long move), source and an empty byte */
     hal_wr16(e + MSG_AXIS, (uint16_t)((uint16_t)axis << 8));
