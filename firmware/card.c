@@ -19,6 +19,7 @@
 
 axis_t axes[MAC4_NAXES];
 axis_t *const axis_at[MAC4_NAXES] = {&axes[0], &axes[1], &axes[2], &axes[3]};
+_Static_assert(MAC4_NAXES == 4, "axis_at[] lists four axes");
 uint32_t card_ostat;
 uint16_t card_err_report;
 uint32_t card_ticks;

@@ -7,5 +7,10 @@ void cmd_reset(void);
 void cmd_poll(void);                    /* main loop: handle at most one command */
 void cmd_execute(const mac4_msg_t *in, mac4_msg_t *out);
 int cmd_mr_pending(void);               /* MR accepted: let the watchdog reset the card */
+/* Off-fly (5.15): commands waiting for their axis' move, oldest first
+ * (for tests and the fuzz model).  At most CMD_HOLD_MAX; while that many
+ * wait, no interface is read. */
+#define CMD_HOLD_MAX 16
+unsigned cmd_held(const mac4_msg_t **list);
 
 #endif

@@ -227,6 +227,9 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from)
         servo_reset(&x->servo);
     }
     servo_set_gains(&x->gains, PAR(n, GA), PAR(n, ZE), PAR(n, PO), PAR(n, KI), PAR(n, KISC));
+#if MAC4_CARD != MAC4_CARD_STP
+    servo_set_limit(&x->gains, PAR(n, SW));      /* <sw>, torque (force) limitation */
+#endif
     x->done = 0;
     x->phase = 0;
     x->stop_then = STOP_NONE;

@@ -193,7 +193,12 @@ static serial_dec_t dec;
 static uint32_t last_rx_us;               /* when serial_poll last took a byte */
 
 static mac4_msg_t fifo[SERIAL_FIFO_LEN];
-static uint8_t fifo_head, fifo_count;
+static uint8_t fifo_head;
+uint8_t serial_fifo_count;                /* decoded commands waiting (serial_pending) */
+/* Set by the ISR whenever the receive side has news (a byte, an overrun, a
+ * framing error) and kept set by serial_poll while a telegram is open (its
+ * timeout needs the clock): serial_poll has nothing to do while it is 0. */
+volatile uint8_t serial_rx_work;
 
 /* Statistics, mirrored into the card data block (DPC_SERIAL_*). */
 enum { ST_RX_OK, ST_NAKS, ST_GARBAGE, ST_OVERRUNS, ST_FRAMING, ST_CMD_LOST, ST_TX_OK, ST_TX_LOST,
@@ -220,11 +225,12 @@ void serial_reset(void)
     rx_head = rx_tail = 0;
     tx_head = tx_tail = 0;
     isr_overruns = isr_framing = 0;
+    serial_rx_work = 0;
     hal_irq_restore(sr);
     seen_overruns = seen_framing = 0;
     serial_dec_init(&dec);
     last_rx_us = 0;
-    fifo_head = fifo_count = 0;
+    fifo_head = serial_fifo_count = 0;
     for (unsigned i = 0; i < ST_COUNT; i++)
         stat_set(i, 0);
 }
@@ -234,6 +240,8 @@ void serial_reset(void)
 void fw_isr_uart(void)
 {
     uint16_t st = hal_rd16(UART_STATUS);      /* reading clears OVERRUN and FRAMING */
+    if (st & (UART_ST_OVERRUN | UART_ST_FRAMING | UART_ST_RXRDY))
+        serial_rx_work = 1;
     for (;;) {
         if (st & UART_ST_OVERRUN)
             isr_overruns++;
@@ -312,21 +320,22 @@ static void event(int ev, const mac4_msg_t *m)
         nak();
         return;
     }
-    if (fifo_count >= SERIAL_FIFO_LEN) {
+    if (serial_fifo_count >= SERIAL_FIFO_LEN) {
         /* No room: refuse it loudly, the sender may repeat it. */
         stat_add(ST_CMD_LOST, 1);
         nak();
         return;
     }
-    fifo[(fifo_head + fifo_count) % SERIAL_FIFO_LEN] = *m;
-    fifo_count++;
+    fifo[(fifo_head + serial_fifo_count) % SERIAL_FIFO_LEN] = *m;
+    serial_fifo_count++;
     stat_add(ST_RX_OK, 1);
 }
 
-void serial_poll(void)
+void serial_poll_work(void)
 {
     int got = 0;
     mac4_msg_t m;               /* filled by the decoder before any use */
+    serial_rx_work = 0;         /* before looking: news from now on sets it again */
     while (rx_tail != rx_head) {
         uint8_t t = rx_tail;
         uint8_t b = rx_buf[t];
@@ -339,6 +348,8 @@ void serial_poll(void)
         last_rx_us = now_us();
     else if (serial_dec_busy(&dec) && (uint32_t)(now_us() - last_rx_us) > SERIAL_TIMEOUT_US)
         event(serial_dec_timeout(&dec), &m);
+    if (serial_dec_busy(&dec))
+        serial_rx_work = 1;     /* a telegram is open: watch its timeout */
 
     if (dec.garbage != stats[ST_GARBAGE])
         stat_set(ST_GARBAGE, dec.garbage);
@@ -355,11 +366,11 @@ void serial_poll(void)
 
 int serial_get(mac4_msg_t *m)
 {
-    if (!fifo_count)
+    if (!serial_fifo_count)
         return 0;
     *m = fifo[fifo_head];
     fifo_head = (uint8_t)((fifo_head + 1u) % SERIAL_FIFO_LEN);
-    fifo_count--;
+    serial_fifo_count--;
     return 1;
 }
 

@@ -19,8 +19,18 @@
 
 /* ---- driver (cmd.c and the boot code) ----------------------------------- */
 void serial_reset(void);                /* empty buffers, decoder to hunting, counters 0 */
-void serial_poll(void);                 /* main loop: decode received bytes */
+/* main loop: decode received bytes (nothing to do, and no call, while the
+ * line is quiet and no telegram is open) */
+extern volatile uint8_t serial_rx_work;
+void serial_poll_work(void);
+static inline void serial_poll(void)
+{
+    if (serial_rx_work)
+        serial_poll_work();
+}
 int serial_get(mac4_msg_t *m);          /* next decoded command (source 1): 1, or 0 if none */
+extern uint8_t serial_fifo_count;
+static inline int serial_pending(void) { return serial_fifo_count != 0; }   /* serial_get would give one */
 void serial_send(const mac4_msg_t *m);  /* a response as a telegram */
 /* fw_isr_uart() (fw.h) is the level 4 interrupt: RX into the ring, TX out of it. */
 

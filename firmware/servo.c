@@ -35,7 +35,17 @@ void servo_set_gains(servo_gains_t *g, int32_t ga, int32_t ze, int32_t po, int32
      * done here, once per E, never in the tick) */
     int32_t lim = ga > 0 ? (int32_t)((uint32_t)(1ul << 18) / (uint32_t)ga) : 32767;
     g->e_lim = (int16_t)(lim > 32767 ? 32767 : lim < 1 ? 1 : lim);
+    g->sw_lim = 0;
     g->full = ze != 0 || po != 0 || ki != 0;
+}
+
+void servo_set_limit(servo_gains_t *g, int32_t sw)
+{
+    if (sw >= SERVO_SW_FULL)
+        g->sw_lim = 0;
+    else
+        g->sw_lim = (int16_t)((sw < 0 ? 0 : sw) + 1);
+    g->full = g->ze != 0 || g->po != 0 || g->ki != 0 || g->sw_lim != 0;
 }
 
 void servo_reset(servo_state_t *s)
@@ -44,6 +54,25 @@ void servo_reset(servo_state_t *s)
     s->u2 = 0;
     s->u2_res = 0;
     s->e_prev = 0;
+}
+
+/* The end of servo_step_full() under a torque limit <sw>: the integrator
+ * (anti wind-up) and the output within -sw..sw. */
+static int16_t limited_output(servo_state_t *s, const servo_gains_t *g, int16_t e, int32_t u1, int32_t u2)
+{
+    int32_t sw = g->sw_lim - 1, sw8 = sw * 256;
+    if (u2 > sw8)
+        u2 = sw8;
+    else if (u2 < -sw8)
+        u2 = -sw8;
+    s->u2 = u2;
+    s->e_prev = e;
+    int32_t u = (u1 + u2 + 128) >> 8;
+    if (u > sw)
+        u = sw;
+    else if (u < -sw)
+        u = -sw;
+    return (int16_t)u;
 }
 
 int16_t servo_step_full(servo_state_t *s, const servo_gains_t *g, int32_t e32)
@@ -77,6 +106,8 @@ int16_t servo_step_full(servo_state_t *s, const servo_gains_t *g, int32_t e32)
         s->u2_res = r - (int32_t)((uint32_t)q << g->kisc);
         u2 += q;
     }
+    if (g->sw_lim)
+        return limited_output(s, g, e, u1, u2);
     if (u2 > (int32_t)SERVO_OUT_MAX * 256)       /* anti wind-up: u2 alone never */
         u2 = (int32_t)SERVO_OUT_MAX * 256;       /* beyond the DAC range */
     else if (u2 < (int32_t)SERVO_OUT_MIN * 256)

@@ -14,6 +14,10 @@
  * integrator keeps the bits its shift drops in a residual, so it does not
  * drift.  The following error is limited to what can matter: K*|e| at
  * most 2^16 LSB (32 times full scale), computed once per gain set.
+ *
+ * Torque (force) limitation <sw> (diagram 5.12): the magnitude of the
+ * output is at most <sw> DAC LSB (and the integrator, its anti wind-up,
+ * with it); 2048 = the DAC's whole range, no limitation.
  * tests/unit/test_servo.c holds the double-precision reference.
  */
 #ifndef SERVO_H
@@ -23,9 +27,10 @@
 typedef struct {
     int16_t ga, ze, po, ki;
     uint8_t kisc;
+    uint8_t full;           /* derived: <ze>, <po> or <ki> set, or a limit (servo_step_full) */
     int16_t e_lim;          /* derived: |e| limit so that K*|e| <= 2^16 LSB */
-    uint8_t full;           /* derived: <ze>, <po> or <ki> set (servo_step_full) */
-} servo_gains_t;
+    int16_t sw_lim;         /* <sw> + 1 below the DAC range (output within -sw..sw), 0: none */
+} servo_gains_t;            /* 14 bytes, as before <sw>: sizeof(axis_t) is in the tick's index arithmetic */
 
 typedef struct {
     int32_t u1;             /* Q8 */
@@ -37,7 +42,12 @@ typedef struct {
 #define SERVO_OUT_MAX 2047
 #define SERVO_OUT_MIN (-2048)
 
+/* The filter's gains; clears any output limit (servo_set_limit after it). */
 void servo_set_gains(servo_gains_t *g, int32_t ga, int32_t ze, int32_t po, int32_t ki, int32_t kisc);
+/* Torque (force) limitation <sw>: |output| <= sw DAC LSB; sw >= SERVO_SW_FULL
+ * (the default) leaves the whole DAC range.  After servo_set_gains. */
+#define SERVO_SW_FULL 2048
+void servo_set_limit(servo_gains_t *g, int32_t sw);
 void servo_reset(servo_state_t *s);
 /* The general filter, every term (servo.c). */
 int16_t servo_step_full(servo_state_t *s, const servo_gains_t *g, int32_t e);
@@ -46,8 +56,9 @@ int16_t servo_step_full(servo_state_t *s, const servo_gains_t *g, int32_t e);
 
 /* One sampling period: the DAC word for following error e.  Inline, for the
  * tick: with <ze> = <po> = <ki> = 0 (the defaults and the manual's examples
- * but one) the filter is K e plus the frozen integrator, one MULS.W; the
- * result is bit for bit what servo_step_full() gives for those gains. */
+ * but one) and no <sw> limit the filter is K e plus the frozen integrator,
+ * one MULS.W; the result is bit for bit what servo_step_full() gives for
+ * those gains.  Everything else (a limit included) is servo_step_full(). */
 #include "mul16.h"
 static inline __attribute__((always_inline)) int16_t servo_step(servo_state_t *s, const servo_gains_t *g,
                                                                 int32_t e32)

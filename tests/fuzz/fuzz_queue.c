@@ -12,6 +12,10 @@
  *   - a corrupt header is never read through: the card touches neither the
  *     indices nor anything else of that queue, and counts the corruption
  *     once (DPC_QUEUE_ERRORS);
+ *   - off-fly (5.15): a command taken and not answered is held for its axis
+ *     (its move runs off-fly, or older commands of it wait); a pass that
+ *     answers without taking answers the oldest held command of one axis;
+ *     the card's list of held commands (cmd_held) changes only so;
  *   - every command taken is answered exactly once: one response element in
  *     the response queue (same axis, its code or an error 160-165, source 0,
  *     reserved bytes 0), or, when the response queue is full or its header
@@ -29,14 +33,44 @@
 
 static int host_reads;
 static int queue_bad;              /* our model of cmd.c's "corrupt header seen" */
-static int held;                   /* our model of cmd.c's off-fly hold (5.15) */
-static fz_elem_t held_cmd;
 static unsigned passes;
 
 static void on_reset(void)
 {
     queue_bad = 0;
-    held = 0;
+}
+
+/* The card's held commands (cmd_held), copied. */
+typedef struct {
+    unsigned n;
+    mac4_msg_t m[CMD_HOLD_MAX];
+} held_t;
+
+static void held_get(held_t *h)
+{
+    const mac4_msg_t *l;
+    h->n = cmd_held(&l);
+    FZ_CHECK(h->n <= CMD_HOLD_MAX, "%u commands held", h->n);
+    for (unsigned i = 0; i < h->n; i++)
+        h->m[i] = l[i];
+}
+
+static int same_msg(const mac4_msg_t *a, const mac4_msg_t *b)
+{
+    return a->axis == b->axis && a->code == b->code && a->param == b->param;
+}
+
+static int held_equal(const held_t *a, const held_t *b, unsigned skip)
+{
+    unsigned j = 0;
+    for (unsigned i = 0; i < a->n; i++) {
+        if (i == skip)
+            continue;
+        if (j >= b->n || !same_msg(&a->m[i], &b->m[j]))
+            return 0;
+        j++;
+    }
+    return j == b->n;
 }
 
 static void check_response(const fz_elem_t *cmd, const fz_elem_t *rsp)
@@ -70,30 +104,19 @@ static void pass(void)
         cmd = fz_elem(DP_CMD_QUEUE, c_rear);
     uint32_t lost0 = fz_rd32(DPC_RSP_LOST), cmds0 = fz_rd32(DPC_COMMANDS);
     uint32_t qerr0 = fz_rd32(DPC_QUEUE_ERRORS);
-    int mr0 = cmd_mr_pending(), held0 = held;
+    int mr0 = cmd_mr_pending();
+    held_t h0, h1;
+    held_get(&h0);
     unsigned resets0 = fz_resets;
 
     fz_pass(PASS_CYC);
 
     if (fz_resets != resets0)
         return;                    /* the watchdog reset the card: queues created anew */
+    held_get(&h1);
     uint32_t c_rear1 = fz_rd32(DP_CMD_QUEUE + QH_REAR), r_front1 = fz_rd32(DP_RSP_QUEUE + QH_FRONT);
     int waiting = cmd_ok && c_front != c_rear;
     int taken = c_rear1 != c_rear;
-    if (!cmd_ok || mr0 || held0 || !waiting)
-        FZ_CHECK(!taken, "rear moved %u -> %u (header %s, MR %d, command held %d, queue %s)",
-                 (unsigned)c_rear, (unsigned)c_rear1, cmd_ok ? "sane" : "corrupt", mr0, held0,
-                 waiting ? "not empty" : "empty");
-    else
-        FZ_CHECK(c_rear1 == q_next(c_rear, Q_NEL), "a command waits (front %u rear %u) but rear -> %u",
-                 (unsigned)c_front, (unsigned)c_rear, (unsigned)c_rear1);
-    /* the corruption is counted once per episode */
-    if (!mr0 && !held0) {
-        uint32_t qerr1 = fz_rd32(DPC_QUEUE_ERRORS);
-        uint32_t want = qerr0 + (!cmd_ok && !queue_bad ? 1u : 0u);
-        FZ_CHECK(qerr1 == want, "DPC_QUEUE_ERRORS %u, expected %u", (unsigned)qerr1, (unsigned)want);
-        queue_bad = !cmd_ok;
-    }
     /* at most one answer per pass: into the response queue, or counted lost */
     uint32_t lost = fz_rd32(DPC_RSP_LOST) - lost0;
     uint32_t done = fz_rd32(DPC_COMMANDS) - cmds0;
@@ -101,6 +124,25 @@ static void pass(void)
     int answered = written + (int)lost;
     FZ_CHECK(answered <= 1 && done == (uint32_t)answered, "%d written, %u lost, DPC_COMMANDS +%u in one pass",
              written, (unsigned)lost, (unsigned)done);
+    /* a pass that answers without taking answers a held command (5.15) */
+    int released = answered && !taken;
+    if (released) {
+        FZ_CHECK(h0.n > 0, "an answer without a command");
+    } else if (!cmd_ok || mr0 || !waiting || h0.n >= CMD_HOLD_MAX) {
+        FZ_CHECK(!taken, "rear moved %u -> %u (header %s, MR %d, %u commands held, queue %s)",
+                 (unsigned)c_rear, (unsigned)c_rear1, cmd_ok ? "sane" : "corrupt", mr0, h0.n,
+                 waiting ? "not empty" : "empty");
+    } else {
+        FZ_CHECK(c_rear1 == q_next(c_rear, Q_NEL), "a command waits (front %u rear %u) but rear -> %u",
+                 (unsigned)c_front, (unsigned)c_rear, (unsigned)c_rear1);
+    }
+    /* the corruption is counted once per episode (when the card looked) */
+    if (!mr0 && !released && h0.n < CMD_HOLD_MAX) {
+        uint32_t qerr1 = fz_rd32(DPC_QUEUE_ERRORS);
+        uint32_t want = qerr0 + (!cmd_ok && !queue_bad ? 1u : 0u);
+        FZ_CHECK(qerr1 == want, "DPC_QUEUE_ERRORS %u, expected %u", (unsigned)qerr1, (unsigned)want);
+        queue_bad = !cmd_ok;
+    }
     if (answered) {
         if (rsp_ok && q_next(r_front, Q_NEL) != r_rear) {
             FZ_CHECK(written && r_front1 == q_next(r_front, Q_NEL),
@@ -110,22 +152,41 @@ static void pass(void)
             FZ_CHECK(lost == 1, "a response written into a full or corrupt queue");
         }
     }
-    if (held0) {
-        /* off-fly (5.15): the held command is answered when its axis' move
-         * ends, and nothing overtakes it */
-        if (answered)
-            held = 0;
+    fz_elem_t answer_to = cmd;
+    if (released) {
+        /* off-fly (5.15): the oldest held command of one axis, whose move
+         * has ended; the others stay in their order */
+        unsigned k = h0.n;
+        for (unsigned i = 0; i < h0.n && k == h0.n; i++)
+            if (held_equal(&h0, &h1, i))
+                k = i;
+        FZ_CHECK(k < h0.n, "a held command answered, but the held list changed otherwise (%u -> %u)", h0.n,
+                 h1.n);
+        for (unsigned i = 0; i < k; i++)
+            FZ_CHECK(h0.m[i].axis != h0.m[k].axis, "a held command of axis %u overtook an older one",
+                     h0.m[k].axis);
+        answer_to = (fz_elem_t){h0.m[k].axis, MSG_SRC_VME, 0, 0, h0.m[k].code, h0.m[k].param};
     } else if (taken && !answered) {
-        FZ_CHECK(cmd.axis < MAC4_NAXES && !(axes[cmd.axis].ustat & UB(ON_FLY)) && motion_busy(cmd.axis),
+        int axis_waits = 0;
+        for (unsigned i = 0; i < h0.n; i++)
+            axis_waits |= cmd.axis < MAC4_NAXES && h0.m[i].axis == cmd.axis;
+        FZ_CHECK(cmd.axis < MAC4_NAXES &&
+                     (axis_waits || (!(axes[cmd.axis].ustat & UB(ON_FLY)) && motion_busy(cmd.axis))),
                  "command %u to axis %u taken, neither answered nor held (off-fly)", cmd.code, cmd.axis);
-        held = 1;
-        held_cmd = cmd;
+        FZ_CHECK(cmd.code != 4 && cmd.code != 7 && cmd.code != 125, "C, VER or RBS held (%u): they always answer",
+                 cmd.code);
+        mac4_msg_t m = {cmd.axis, cmd.code, cmd.param, MSG_SRC_VME};
+        held_t h1_old = h1;
+        h1_old.n = h0.n;                       /* h1 without its last entry */
+        FZ_CHECK(h1.n == h0.n + 1 && held_equal(&h0, &h1_old, h0.n) && same_msg(&h1.m[h0.n], &m),
+                 "command %u to axis %u not held last (%u -> %u held)", cmd.code, cmd.axis, h0.n, h1.n);
     } else {
+        FZ_CHECK(h1.n == h0.n && held_equal(&h0, &h1, h0.n), "the held commands changed (%u -> %u)", h0.n, h1.n);
         FZ_CHECK(!answered || taken, "an answer without a command");
     }
     if (answered && written) {
         fz_elem_t rsp = fz_elem(DP_RSP_QUEUE, r_front);
-        check_response(held0 ? &held_cmd : &cmd, &rsp);
+        check_response(&answer_to, &rsp);
     }
     if (host_reads) {
         fz_host_drain();
@@ -165,7 +226,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     fz_power_on();
     host_reads = 1;
     queue_bad = 0;
-    held = 0;
     passes = 0;
     fz_in_t in = {data, size, 0};
     while (fz_more(&in) && passes < MAX_PASSES) {

@@ -159,6 +159,7 @@ LOGICAL = [
     ((0, "WDL", 0), 96), ((0, "MF"), 56), ((0, "E"), 163), ((0, "C"), 4),  # find edge to an off switch
     ((0, "WDL", 1), 96), ((0, "MF"), 56), ((0, "E"), 3),                   # ... to the negative limit: ok
     ((0, "MP"), 59), ((0, "E"), 163), ((0, "C"), 4),                       # motion to motion
+    ((0, "WAP", 3000), 70),                                                # (a target away from here)
     ((0, "MB"), 58), ((0, "E"), 3), ((0, "MP"), 59), ((0, "E"), 3),        # via brake: ok
     ((0, "WZP", 5), 163), ((0, "C"), 4),                                   # position set while moving
     ((0, "MB"), 58), ((0, "E"), 3), ((0, "MD"), 51), ((0, "E"), 3),

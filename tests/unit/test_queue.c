@@ -28,6 +28,51 @@ static void create_matches_table_7_1(void **st)
     assert_int_equal(dp_rd32(&card, 0x4714), 0xA);
 }
 
+/* The DPRAM keeps the queues across a reset and the host may poll them
+ * while the card creates them anew: after every write of q_create the
+ * header is either one the host must not use, or one with front == rear
+ * (never the new front with the old rear: stale elements as responses). */
+static uint32_t watched_q;
+static unsigned header_writes, stale_seen;
+static void check_header(sim_t *s, uint32_t addr, uint32_t v, int size)
+{
+    (void)v;
+    (void)size;
+    if (addr < watched_q || addr >= watched_q + Q_HEADER_SIZE)
+        return;
+    header_writes++;
+    uint32_t base = dp_rd32(s, watched_q + QH_BASE), width = dp_rd32(s, watched_q + QH_WIDTH);
+    uint32_t nel = dp_rd32(s, watched_q + QH_NEL);
+    uint32_t front = dp_rd32(s, watched_q + QH_FRONT), rear = dp_rd32(s, watched_q + QH_REAR);
+    int sane = base == Q_HEADER_SIZE && width == Q_WIDTH && nel == Q_NEL && front < nel && rear < nel;
+    if (sane && front != rear)
+        stale_seen++;
+}
+
+static void create_over_a_live_queue(void **st)
+{
+    (void)st;
+    static const uint32_t q[] = {DP_CMD_QUEUE, DP_RSP_QUEUE};
+    static const uint32_t fr[][2] = {{3, 7}, {7, 3}, {0, 5}, {5, 0}, {9, 1}};
+    for (unsigned k = 0; k < 2; k++)
+        for (unsigned i = 0; i < sizeof fr / sizeof fr[0]; i++) {
+            card_setup();
+            q_create(q[k]);
+            dp_wr32(&card, q[k] + QH_FRONT, fr[i][0]);   /* the host's view before the reset */
+            dp_wr32(&card, q[k] + QH_REAR, fr[i][1]);
+            watched_q = q[k];
+            header_writes = stale_seen = 0;
+            card.on_bus_write = check_header;
+            q_create(q[k]);
+            card.on_bus_write = NULL;
+            assert_true(header_writes >= 6);
+            assert_int_equal(stale_seen, 0);
+            assert_int_equal(dp_rd32(&card, q[k] + QH_BASE), Q_HEADER_SIZE);
+            assert_int_equal(dp_rd32(&card, q[k] + QH_FRONT), 0);
+            assert_int_equal(dp_rd32(&card, q[k] + QH_REAR), 0);
+        }
+}
+
 static void host_to_card_round_trip(void **st)
 {
     (void)st;
@@ -97,6 +142,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(index_arithmetic),
         cmocka_unit_test(create_matches_table_7_1),
+        cmocka_unit_test(create_over_a_live_queue),
         cmocka_unit_test(host_to_card_round_trip),
         cmocka_unit_test(card_to_host_full),
         cmocka_unit_test(corrupt_header_touches_nothing),

@@ -426,6 +426,41 @@ static void driver_naks_bad_telegrams(void **st)
     assert_int_equal(nsent, 3);                     /* garbage is not answered */
 }
 
+/* serial_poll() works only while there is news from the ISR or an open
+ * telegram to time out: serial_rx_work says which, and serial_pending()
+ * what serial_get() would give. */
+static void driver_idles_without_work(void **st)
+{
+    (void)st;
+    serial_setup();
+    assert_int_equal(serial_rx_work, 0);
+    assert_false(serial_pending());
+    uart_feed(&card, (const uint8_t *)"\x10\x02\x00", 3);  /* a telegram begins */
+    line_run_ex(3 * UART_CHAR_CYC + US_TO_CYC(500), 0);
+    assert_int_equal(serial_rx_work, 1);                /* the ISR has news */
+    serial_poll();
+    assert_int_equal(serial_rx_work, 1);                /* open: its timeout needs watching */
+    line_run(MS_TO_CYC(110));
+    assert_int_equal(nsent, 1);                          /* timed out: NAK */
+    assert_int_equal(serial_rx_work, 0);                /* nothing open any more */
+    feed_hex("10 02 00 00 01 00 00 00 00 01");
+    assert_int_equal(serial_rx_work, 0);
+    assert_true(serial_pending());
+    mac4_msg_t m;
+    assert_int_equal(serial_get(&m), 1);
+    assert_false(serial_pending());
+    assert_int_equal(serial_get(&m), 0);
+    /* an overrun alone (no byte taken) is news too: counted at the next poll */
+    card.uart.rx_full = 1;
+    card.uart.rx_hold = 0x41;
+    card.uart.framing = 1;
+    fw_isr_uart();
+    assert_int_equal(serial_rx_work, 1);
+    serial_poll();
+    assert_int_equal(stat(DPC_SERIAL_FRAMING), 1);
+    assert_int_equal(serial_rx_work, 0);
+}
+
 static void driver_drops_a_stalled_telegram(void **st)
 {
     (void)st;
@@ -611,6 +646,7 @@ int main(void)
         cmocka_unit_test(random_streams_resynchronise),
         cmocka_unit_test(driver_receives_and_answers),
         cmocka_unit_test(driver_naks_bad_telegrams),
+        cmocka_unit_test(driver_idles_without_work),
         cmocka_unit_test(driver_drops_a_stalled_telegram),
         cmocka_unit_test(driver_full_fifo_naks_and_counts),
         cmocka_unit_test(driver_never_sends_half_a_telegram),

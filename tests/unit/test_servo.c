@@ -1,6 +1,7 @@
 /* The position controller (firmware/servo.c) against a double-precision
  * reference of the manual's difference equations (5.16). */
 #include <math.h>
+#include <stdlib.h>
 #include "unit_support.h"
 #include "servo.h"
 
@@ -8,21 +9,24 @@ typedef struct { double u1, u2, e_prev; } ref_t;
 
 /* u1(k) = K e(k) - K A e(k-1) - B u1(k-1); u2(k) = C e(k-1) + u2(k-1),
  * u2 limited to the DAC range (anti wind-up); u saturated to 12 bits. */
-static double ref_step(ref_t *r, int ga, int ze, int po, int ki, int kisc, double e)
+static double ref_step_sw(ref_t *r, int ga, int ze, int po, int ki, int kisc, double e, int sw)
 {
     double K = ga / 4.0, A = ze / 256.0, B = po / 256.0, C = ki / (256.0 * (double)(1 << kisc));
+    /* the output range: the DAC's, or -<sw>..<sw> (torque limitation) */
+    double hi = sw >= 2048 ? 2047 : sw, lo = sw >= 2048 ? -2048 : -sw;
     double u1 = K * e - K * A * r->e_prev - B * r->u1;
     double u2 = C * r->e_prev + r->u2;
-    if (u2 > 2047)
-        u2 = 2047;
-    if (u2 < -2048)
-        u2 = -2048;
+    if (u2 > hi)
+        u2 = hi;
+    if (u2 < lo)
+        u2 = lo;
     r->u1 = u1;
     r->u2 = u2;
     r->e_prev = e;
     double u = u1 + u2;
-    return u > 2047 ? 2047 : u < -2048 ? -2048 : u;
+    return u > hi ? hi : u < lo ? lo : u;
 }
+
 
 static uint32_t rng = 12345;
 static int32_t rnd(int32_t span)
@@ -32,13 +36,14 @@ static int32_t rnd(int32_t span)
 }
 
 /* Runs n ticks of a following-error sequence; returns the largest
- * |fixed - reference| in DAC LSB. */
-static double run(int ga, int ze, int po, int ki, int kisc, int kind, long n)
+ * |fixed - reference| in DAC LSB.  sw: the torque limit (2048: none). */
+static double run_sw(int ga, int ze, int po, int ki, int kisc, int kind, long n, int sw)
 {
     servo_gains_t g;
     servo_state_t s;
     ref_t r = {0, 0, 0};
     servo_set_gains(&g, ga, ze, po, ki, kisc);
+    servo_set_limit(&g, sw);
     servo_reset(&s);
     double worst = 0;
     int32_t e = 0;
@@ -49,13 +54,20 @@ static double run(int ga, int ze, int po, int ki, int kisc, int kind, long n)
         case 2: e = (k / 500) % 2 ? 40 : -25; break;                                  /* steps */
         default: e = rnd(20); break;                                                  /* noise */
         }
-        double want = ref_step(&r, ga, ze, po, ki, kisc, e);
+        double want = ref_step_sw(&r, ga, ze, po, ki, kisc, e, sw);
         int16_t got = servo_step(&s, &g, e);
+        if (sw < 2048)
+            assert_true(got >= -sw && got <= sw);
         double d = fabs((double)got - want);
         if (d > worst)
             worst = d;
     }
     return worst;
+}
+
+static double run(int ga, int ze, int po, int ki, int kisc, int kind, long n)
+{
+    return run_sw(ga, ze, po, ki, kisc, kind, n, 2048);
 }
 
 static void manual_inc_example(void **st)
@@ -149,6 +161,94 @@ static void fast_path_is_the_full_filter(void **state)
     assert_int_equal(g.full, 1);
 }
 
+/* <sw> (5.16, diagram 5.12): the output magnitude at most <sw>, the
+ * integrator limited with it, within 1 LSB of the reference, for the
+ * manual's gains and for K-only gains (which then take the full filter). */
+static void torque_limit_against_the_reference(void **st)
+{
+    (void)st;
+    static const int sws[] = {0, 1, 100, 700, 2047};
+    for (unsigned i = 0; i < sizeof sws / sizeof sws[0]; i++)
+        for (int kind = 0; kind < 4; kind++) {
+            assert_true(run_sw(80, 128, 0, 41, 3, kind, 50000, sws[i]) <= 1.0);
+            assert_true(run_sw(200, 253, 0, 13, 0, kind, 50000, sws[i]) <= 1.0);
+            assert_true(run_sw(120, 200, 64, 300, 8, kind, 50000, sws[i]) <= 1.0);
+            assert_true(run_sw(400, 0, 0, 0, 8, kind, 50000, sws[i]) <= 1.0);
+        }
+}
+
+/* The limit holds in servo_step (the tick's entry) as in servo_step_full,
+ * word for word; with the K-only gains it is what moves the tick off its
+ * inline path, and <sw> = 2048 (the default) or more leaves that path and
+ * every result exactly as without a limit. */
+static void torque_limit_in_both_paths(void **st)
+{
+    (void)st;
+    servo_gains_t g, plain;
+    servo_state_t a, b, c;
+    servo_set_gains(&g, 400, 0, 0, 0, 8);
+    plain = g;
+    assert_int_equal(g.full, 0);
+    servo_set_limit(&g, 300);
+    assert_int_equal(g.full, 1);
+    servo_reset(&a);
+    b = a;
+    for (long k = 0; k < 20000; k++) {
+        int32_t e = rnd(k % 3 ? 400 : 70000);
+        int16_t ua = servo_step(&a, &g, e), ub = servo_step_full(&b, &g, e);
+        assert_int_equal(ua, ub);
+        assert_true(ua >= -300 && ua <= 300);
+        assert_int_equal(a.u2, b.u2);
+    }
+    static const int32_t full_range[] = {2048, 2049, 1000000};
+    for (unsigned i = 0; i < sizeof full_range / sizeof full_range[0]; i++) {
+        servo_gains_t h = plain;
+        servo_set_limit(&h, full_range[i]);
+        assert_int_equal(h.full, 0);
+        assert_int_equal(h.sw_lim, 0);
+        servo_reset(&a);
+        servo_reset(&c);
+        for (long k = 0; k < 5000; k++) {
+            int32_t e = rnd(k % 3 ? 400 : 70000);
+            assert_int_equal(servo_step(&a, &h, e), servo_step(&c, &plain, e));
+        }
+    }
+    /* a negative <sw> cannot be written (0..2048); the setter takes it as 0 */
+    servo_set_limit(&g, -5);
+    servo_reset(&a);
+    assert_int_equal(servo_step(&a, &g, 1000), 0);
+    /* the full filter's own gains keep their limit too, and gains set anew
+     * clear it until servo_set_limit comes again (motion.c: at E, both) */
+    servo_set_gains(&g, 80, 128, 0, 41, 3);
+    servo_set_limit(&g, 50);
+    servo_reset(&a);
+    for (int k = 0; k < 100; k++)
+        assert_true(abs(servo_step(&a, &g, k % 2 ? 3000 : -3000)) <= 50);
+    servo_set_gains(&g, 80, 128, 0, 41, 3);
+    assert_int_equal(g.sw_lim, 0);
+    servo_reset(&a);
+    assert_int_equal(servo_step(&a, &g, 3000), 2047);
+}
+
+/* Under a limit the integrator winds up no further than the limit: when
+ * the error reverses, the output leaves the limit within a few ticks. */
+static void torque_limit_winds_up_no_further(void **st)
+{
+    (void)st;
+    servo_gains_t g;
+    servo_state_t s;
+    servo_set_gains(&g, 80, 0, 0, 32767, 0);
+    servo_set_limit(&g, 500);
+    servo_reset(&s);
+    for (int k = 0; k < 10000; k++)
+        assert_int_equal(servo_step(&s, &g, 5000), 500);
+    assert_int_equal(s.u2, 500 * 256);
+    int k = 0;
+    while (servo_step(&s, &g, -20) > -500 && k < 100)
+        k++;
+    assert_true(k < 100);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -158,6 +258,9 @@ int main(void)
         cmocka_unit_test(with_a_pole_and_default_shift),
         cmocka_unit_test(integrator_does_not_drift),
         cmocka_unit_test(saturates_and_winds_up_no_further),
+        cmocka_unit_test(torque_limit_against_the_reference),
+        cmocka_unit_test(torque_limit_in_both_paths),
+        cmocka_unit_test(torque_limit_winds_up_no_further),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
