@@ -279,7 +279,8 @@ int sim_irq_level(sim_t *s)
 {
     if (estop_edge)
         return IRQ_LEVEL_ESTOP;
-    if ((s->tmr.status & TMR_ST_EXPIRED) && (s->tmr.ctrl & TMR_CTRL_IE) && sim_now(s) >= s->tmr.irq_at)
+    if ((s->tmr.status & TMR_ST_EXPIRED) && (s->tmr.ctrl & TMR_CTRL_IE) &&
+        (s->tmr.irq_at <= s->tmr.last || sim_now(s) >= s->tmr.irq_at))   /* TMR_CTRL_SSI_WAIT */
         return IRQ_LEVEL_TIMER;
     if (axis_irq_rd(s, 0, 2))
         return IRQ_LEVEL_AXIS;
@@ -306,7 +307,7 @@ static cyc_t min_cyc(cyc_t a, cyc_t b) { return a < b ? a : b; }
 cyc_t periph_next_event(sim_t *s)
 {
     cyc_t t = s->tmr.next;
-    if ((s->tmr.status & TMR_ST_EXPIRED) && s->tmr.irq_at > sim_now(s))
+    if ((s->tmr.status & TMR_ST_EXPIRED) && s->tmr.irq_at > s->tmr.last && s->tmr.irq_at > sim_now(s))
         t = min_cyc(t, s->tmr.irq_at);          /* the delayed request (TMR_CTRL_SSI_WAIT) */
     t = min_cyc(t, s->uart.rx_done);
     t = min_cyc(t, s->uart.tx_done);
