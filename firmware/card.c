@@ -525,7 +525,8 @@ static inline __attribute__((always_inline)) void supervise_axis(unsigned n, uns
     x->meas_sup = x->meas;
     x->mk_tick = (x->ustat & UB(INIT)) ? x->mk : MK_NONE;
     axis_inputs(n);
-    motion_supervise(n);
+    if (!motion_quiet(x))
+        motion_supervise(n);
     hal_irq_restore(prev);
 }
 

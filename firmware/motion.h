@@ -2,6 +2,7 @@
 #ifndef MOTION_H
 #define MOTION_H
 #include <stdint.h>
+#include "card.h"
 
 void motion_start(unsigned n, uint8_t mode, uint8_t from);  /* at E, interrupts masked */
 void motion_hold(unsigned n);                 /* setpoint := actual position, at rest */
@@ -13,5 +14,25 @@ int16_t motion_servo_tick(unsigned n, unsigned phase);  /* STP, every tick (INC/
 void motion_supervise(unsigned n);            /* main loop, after every tick: index, protection */
 int motion_busy(unsigned n);                  /* a move that off-fly waits for (5.15) */
 int motion_at_rest(unsigned n);
+
+/* Nothing for motion_supervise() to do after this tick: no brake under way,
+ * no index latched, no limit bit, the following error within <mf> and a
+ * linear axis within its software limits (or a protective stop already
+ * running).  The common case, tested inline by card_supervise(); it must
+ * stay a subset of what motion_supervise() would leave alone. */
+static inline int motion_quiet(const axis_t *x)
+{
+    if (x->braking || (x->ustat & (UB(HWL_P) | UB(HWL_N) | UB(SWL_P) | UB(SWL_N))))
+        return 0;
+    if ((x->in & AX_IN_IDX) && !x->idx_seen &&
+        (x->mode == M_SEARCH_IDX_C || x->mode == M_SEARCH_IDX || x->mode == M_HOME))
+        return 0;                                 /* an index latched during a search */
+    if (x->stop_then)
+        return 1;
+    int32_t mf = x->mf;
+    if (x->ferr > mf || x->ferr < -mf)
+        return 0;
+    return !x->linear || (x->pos <= x->lp && x->pos >= x->ln);
+}
 
 #endif
