@@ -37,7 +37,9 @@ uint16_t card_supervise_late;         /* ticks the main loop did not supervise i
  * The interrupter holds one request until the host's IACK; more wait here. */
 #define VIRQ_FIFO 16u
 static uint8_t virq_fifo[VIRQ_FIFO];
-static uint8_t virq_head, virq_tail;
+static uint8_t virq_head;
+volatile uint8_t vme_irq_waiting;      /* virq_tail != virq_head: see vme_irq_service() */
+static uint8_t virq_tail;
 
 void vme_irq(uint8_t vector)
 {
@@ -50,18 +52,20 @@ void vme_irq(uint8_t vector)
     } else {
         virq_fifo[virq_head] = vector;
         virq_head = next;
+        vme_irq_waiting = 1;
     }
     vme_irq_service();
     hal_irq_restore(prev);
 }
 
-void vme_irq_service(void)
+void vme_irq_service_do(void)
 {
     unsigned prev = hal_irq_save();
     if (virq_tail != virq_head && !(hal_rd16(VIRQ_STATUS) & VIRQ_ST_PENDING)) {
         hal_wr16(VIRQ_VECTOR, virq_fifo[virq_tail]);
         virq_tail = (uint8_t)((virq_tail + 1u) % VIRQ_FIFO);
     }
+    vme_irq_waiting = virq_tail != virq_head;
     hal_irq_restore(prev);
 }
 
@@ -198,6 +202,7 @@ void card_reset(void)
     card_supervised = 0;
     estop_seen = 0;
     virq_head = virq_tail = 0;
+    vme_irq_waiting = 0;
     cmd_reset();
     serial_reset();
 }

@@ -138,6 +138,14 @@ void axis_set_pos(unsigned n);             /* main loop: pos from meas and <ao>,
 
 /* VMEbus interrupts (4.6): vector 0 = off. */
 void vme_irq(uint8_t vector);
-void vme_irq_service(void);
+/* Hand the next waiting interrupt to the interrupter once the host has
+ * acknowledged the last one; the test is inline (every main-loop pass). */
+extern volatile uint8_t vme_irq_waiting;
+void vme_irq_service_do(void);
+static inline void vme_irq_service(void)
+{
+    if (vme_irq_waiting)
+        vme_irq_service_do();
+}
 
 #endif
