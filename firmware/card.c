@@ -498,7 +498,7 @@ void fw_isr_tick(void)
 /* The setpoint and following error of the tick in phase ph, as it used
  * them (RCP-side values, the following-error check): the tick itself keeps
  * only what the next tick needs. */
-static void tick_result(axis_t *x, unsigned ph)
+static inline __attribute__((always_inline)) void tick_result(axis_t *x, unsigned ph)
 {
     if (x->mode == M_DISABLE) {
         x->setpoint = x->meas;
