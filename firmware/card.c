@@ -573,18 +573,22 @@ void card_supervise_tick(void)
 
 void fw_isr_axis(void)
 {
-    /* Index and step-pulse interrupts: acknowledge by re-arming; used by the
-     * justification modes and the STP creep phase (later issues). */
+    /* The STP's creep phase counts its pulses here (stepper.c).  The index
+     * latch is polled by the supervision (the searches); its interrupt is
+     * never enabled, so an index request can only be a fault: it is
+     * switched off, and the latch the search waits for is left alone. */
     uint16_t pending = hal_rd16(AXIS_IRQ_PENDING);
 #if MAC4_CARD == MAC4_CARD_STP
     if (pending & 0x0FF0u)
         stp_isr(pending);                        /* creep phase: step pulses, count done */
+#endif
     if (!(pending & 0x000Fu))
         return;
-#endif
     for (unsigned n = 0; n < MAC4_NAXES; n++)
-        if (pending & (1u << n))
-            hal_wr16(AX_REG(n, AX_CTRL), (uint16_t)(axes[n].ctrl | AX_CTRL_IDX_ARM));
+        if (pending & (1u << n)) {
+            axes[n].ctrl = (uint16_t)(axes[n].ctrl & ~AX_CTRL_IDX_IE);
+            hal_wr16(AX_REG(n, AX_CTRL), axes[n].ctrl);
+        }
 }
 
 void fw_isr_estop(void)

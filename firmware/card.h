@@ -26,9 +26,6 @@ typedef struct {
     int32_t zp_value;   /* last WZP value, read back by RZP */
     /* profile generator (motion.c), measurement frame, Q16 */
     prof_t prof;
-    int64_t seg_start;  /* the SP segment the servo ticks interpolate (tick side) */
-    int64_t seg_end;
-    int64_t seg_step;
     /* the next SP's segment, prepared by the main loop and split as the
      * tick uses it: start, step per tick and end, integer + Q16 fraction */
     int32_t nx_start_i, nx_st_i, nx_end_i;

@@ -480,8 +480,6 @@ static inline __attribute__((always_inline)) void creep_begin(axis_t *x, stp_t *
     int32_t miss = (int32_t)(x->target >> 16) - cur;
     if (s->creep == CREEP_REQ) {
         /* the profile's creep segment is the down-counter's: the setpoint is at its end */
-        x->seg_start = x->seg_end;
-        x->seg_step = 0;
         x->start_i = x->sp_i = x->end_i;
         x->start_f = x->sp_f = x->end_f;
         x->st_i = 0;
