@@ -116,7 +116,7 @@ extern uint16_t card_profile_late;          /* SP boundaries without a prepared 
  * work is card_supervise_tick(). */
 extern uint32_t card_supervised;            /* card_ticks at the last supervision */
 void card_supervise_tick(void);
-static inline void card_supervise(void)
+static inline __attribute__((always_inline)) void card_supervise(void)
 {
     if (*(volatile uint32_t *)&card_ticks != card_supervised)
         card_supervise_tick();
@@ -139,7 +139,7 @@ void vme_irq(uint8_t vector);
  * acknowledged the last one; the test is inline (every main-loop pass). */
 extern volatile uint8_t vme_irq_waiting;
 void vme_irq_service_do(void);
-static inline void vme_irq_service(void)
+static inline __attribute__((always_inline)) void vme_irq_service(void)
 {
     if (vme_irq_waiting)
         vme_irq_service_do();

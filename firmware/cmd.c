@@ -98,7 +98,7 @@ static inline int kind_is_read(uint8_t kind) { return kind >= CK_READ; }
 /* ---- state -------------------------------------------------------------- */
 static uint8_t queue_bad;       /* 1 while the command queue header is corrupt */
 static uint8_t last_valid_axis; /* for interrupt 2 of a false axis number (6.3.1) */
-static uint8_t mr_pending;      /* MR accepted: stop retriggering the watchdog */
+uint8_t cmd_mr;                 /* MR accepted: stop retriggering the watchdog (cmd.h) */
 static uint32_t wd_last_us;     /* time of the last command, for <wd> (kept while <wd> > 0) */
 static uint8_t wd_fired;
 static uint8_t turn;            /* which interface is asked first this pass */
@@ -130,7 +130,7 @@ void cmd_reset(void)
 {
     queue_bad = 0;
     last_valid_axis = 0;
-    mr_pending = 0;
+    cmd_mr = 0;
     wd_fired = 0;
     wd_last_us = 0;
     n_held = 0;
@@ -138,7 +138,6 @@ void cmd_reset(void)
     irq12_update();
 }
 
-int cmd_mr_pending(void) { return mr_pending; }
 
 unsigned cmd_held(const mac4_msg_t **list)
 {
@@ -371,7 +370,7 @@ static int do_general(int ci, unsigned a, uint32_t p)
     case CI_MR:
         if (!(hal_rd16(SYS_STATUS) & SYS_ST_J11))
             return ERR_LOGICAL;                   /* 2.1.3: MR works only with J11 in */
-        mr_pending = 1;
+        cmd_mr = 1;
         return 0;
     case CI_FLYON:
         axes[a].ustat |= UB(ON_FLY);
@@ -655,7 +654,7 @@ void cmd_poll(void)
     mac4_msg_t in;
     serial_poll();
     watchdog_check();
-    if (mr_pending)
+    if (cmd_mr)
         return;             /* the watchdog resets the card soon */
     if (n_held) {
         if (release_held())

@@ -6,7 +6,8 @@
 void cmd_reset(void);
 void cmd_poll(void);                    /* main loop: handle at most one command */
 void cmd_execute(const mac4_msg_t *in, mac4_msg_t *out);
-int cmd_mr_pending(void);               /* MR accepted: let the watchdog reset the card */
+extern uint8_t cmd_mr;                 /* MR accepted: let the watchdog reset the card */
+static inline int cmd_mr_pending(void) { return cmd_mr; }
 /* Off-fly (5.15): commands waiting for their axis' move, oldest first
  * (for tests and the fuzz model).  At most CMD_HOLD_MAX; while that many
  * wait, no interface is read. */
