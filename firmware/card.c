@@ -465,6 +465,31 @@ void fw_isr_tick(void)
     card_ticks++;
 }
 #else
+/* The STP's position counter (steps, or encoder increments with BR closed)
+ * as the INC's: one live word, its 16-bit difference the period's motion;
+ * increments become steps (<ms>/(4 <es>)), and without the encoder the
+ * counter follows DIR, which USR turns round. */
+static inline __attribute__((always_inline)) void stp_tick_measure(unsigned n)
+{
+    axis_t *x = &axes[n];
+    PIN_PTR(x);
+    uint8_t mk = x->mk_tick;
+    if (mk == MK_NONE)
+        return;                                   /* position reads 0 before INIT (4.9) */
+    if (mk != MK_COUNTER) {
+        measure_axis(n);                          /* external (measure.c) */
+        return;
+    }
+    uint32_t c = x->counter;
+    int32_t d = (int16_t)(uint16_t)(hal_rd16(AX_REG(n, AX_CNT_LIVE)) - (uint16_t)c);
+    x->counter = (c + (uint32_t)d) & 0xFFFFFFu;   /* RCT, RED: card_supervise */
+    if (stp_conv & (1u << n))
+        d = stp_measured(n, d);
+    else if (x->ustat & UB(REV_O))
+        d = -d;
+    measure_apply(x, d);
+}
+
 void fw_isr_tick(void)
 {
     hal_wr16(TMR_STATUS, TMR_ST_EXPIRED);
@@ -476,13 +501,13 @@ void fw_isr_tick(void)
         card_profile_due = MAC4_NAXES;
     }
     /* four times with a constant n: absolute register addresses */
-    measure_axis(0);
+    stp_tick_measure(0);
     axis_output_at(0, motion_servo_tick(0, phase));
-    measure_axis(1);
+    stp_tick_measure(1);
     axis_output_at(1, motion_servo_tick(1, phase));
-    measure_axis(2);
+    stp_tick_measure(2);
     axis_output_at(2, motion_servo_tick(2, phase));
-    measure_axis(3);
+    stp_tick_measure(3);
     axis_output_at(3, motion_servo_tick(3, phase));
     card_ticks++;
 }

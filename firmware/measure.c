@@ -132,7 +132,7 @@ void measure_encoder_error(unsigned n)
 
 void measure_axis(unsigned n)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     PIN_PTR(x);
     if (!axis_initialised(n))
         return;                                         /* position reads 0 before INIT (4.9) */
@@ -193,7 +193,7 @@ void measure_axis(unsigned n)
 
 void measure_init(unsigned n)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     meas_cfg_t *c = &mc[n];
     int32_t et = PAR(n, ET), eb = PAR(n, EB), ec = PAR(n, EC);
 #if MAC4_CARD == MAC4_CARD_SSI

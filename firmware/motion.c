@@ -52,7 +52,7 @@ static inline __attribute__((always_inline)) void vq_refresh_x(axis_t *x, unsign
 
 static void vq_compute(unsigned n, uint8_t turbo)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     x->q_pv = vq(n, PAR(n, PV));
     x->q_pa = vq(n, PAR(n, PA));
     x->q_pd = vq(n, PAR(n, PD));
@@ -84,7 +84,7 @@ static int64_t stp_ssf_now;
 /* A user position (with <ao>) as a measurement-frame target. */
 static int64_t target_of(unsigned n, int32_t user)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     int32_t sh = PAR(n, SH);
     if (sh == 1)
         return Q16((int64_t)user - PAR(n, AO));
@@ -118,7 +118,7 @@ static void arm_index(unsigned n)
 
 void motion_hold(unsigned n)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     x->prof.pos = meas_q(n);
     x->prof.vel = 0;
     /* both sides of the segment hand-over start again from here */
@@ -197,7 +197,7 @@ void motion_brake(unsigned n)
 #if MAC4_CARD == MAC4_CARD_STP
 int motion_segment(unsigned n)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     PIN_PTR(x);
     if (x->braking)
         return 0;                                /* the tick brakes by itself */
@@ -221,7 +221,7 @@ int motion_segment(unsigned n)
 
 void motion_start(unsigned n, uint8_t mode, uint8_t from)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     if (from == M_DISABLE || from == M_TEST) {
         motion_hold(n);                          /* no jump when the drive comes on */
         servo_reset(&x->servo);
@@ -256,7 +256,7 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from)
 
 void motion_emergency(unsigned n, uint8_t then)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     if (x->mode == M_DISABLE)
         return;
     if (x->mode == M_TEST) {                     /* 4.8.2: no ramp in test mode */
@@ -274,7 +274,7 @@ static int sw_active(unsigned n, uint32_t ubit) { return (axes[n].ustat & ubit) 
 
 static void justified(unsigned n, int set_zero)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
 #if MAC4_CARD != MAC4_CARD_STP
     x->prof.pos = Q16(x->edge);
 #endif
@@ -368,7 +368,7 @@ static void profile_modes(unsigned n) __attribute__((noinline));
 /* A protective stop has ramped down: what follows it (4.8). */
 static void stop_done(unsigned n)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     if (x->stop_then == STOP_HOLD) {
         axis_set_mode(n, M_BRAKE);
     } else {
@@ -410,7 +410,7 @@ void motion_profile_tick(unsigned n)
 
 static void profile_modes(unsigned n)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     PIN_PTR(x);
     prof_t *p = &x->prof;
     if (x->nx_ready)
@@ -606,7 +606,7 @@ static void profile_modes(unsigned n)
 #if MAC4_CARD == MAC4_CARD_STP
 int16_t motion_servo_tick(unsigned n, unsigned phase)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     PIN_PTR(x);
     if (x->mode == M_DISABLE) {
         x->setpoint = x->meas;
@@ -710,7 +710,7 @@ void motion_supervise(unsigned n)
 
 int motion_busy(unsigned n)
 {
-    const axis_t *x = &axes[n];
+    const axis_t *x = axis_at[n];
     switch (x->mode) {
     case M_POSITIONING:
         return !(x->ustat & UB(POS_END));

@@ -373,7 +373,7 @@ uint8_t stp_conv;           /* bit n: axis n's counter counts increments */
 /* ---- measurement ---------------------------------------------------------- */
 void stp_init(unsigned n)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     stp_t *s = &stp_ax[n];
     int32_t et = PAR(n, ET);
     int exact;
@@ -557,7 +557,7 @@ static inline __attribute__((always_inline)) int creep_tick(axis_t *x, stp_t *s,
 /* ---- motion (motion.c, main loop) ----------------------------------------- */
 void stp_motion_start(unsigned n, uint8_t mode, int64_t ssf)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     stp_t *s = &stp_ax[n];
     if (s->creep != CREEP_IDLE)
         creep_abort(n);
@@ -583,7 +583,7 @@ void stp_motion_start(unsigned n, uint8_t mode, int64_t ssf)
 
 int stp_positioning(unsigned n, int64_t vmax, int64_t acc, int64_t dec, int64_t ssf)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     stp_t *s = &stp_ax[n];
     PIN_PTR(x);
     PIN_PTR(s);
@@ -652,7 +652,7 @@ static inline __attribute__((always_inline)) void status_of(axis_t *x, const stp
 
 void stp_status(unsigned n)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     const stp_t *s = &stp_ax[n];
     PIN_PTR(x);
     PIN_PTR(s);
@@ -692,7 +692,7 @@ static __attribute__((noinline)) void profile_end(axis_t *x, stp_t *s, unsigned 
 
 void stp_profile_end(unsigned n, int64_t before, int64_t before_vel)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     stp_t *s = &stp_ax[n];
     PIN_PTR(x);
     PIN_PTR(s);
@@ -708,7 +708,7 @@ void stp_profile_end(unsigned n, int64_t before, int64_t before_vel)
  * the generator's phase (docs/stepper.md).  Those steps at <lv>. */
 void stp_trim(unsigned n)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     stp_t *s = &stp_ax[n];
     int32_t e = x->ferr;
     if (e < -TRIM_MAX || e > TRIM_MAX || s->creep != CREEP_IDLE) {
@@ -785,7 +785,7 @@ void stp_servo_full(axis_t *x, unsigned n, unsigned phase, int32_t old_i, uint16
 /* axis_output, disabled (with something to switch off) or in test mode. */
 void stp_idle_output(unsigned n)
 {
-    axis_t *x = &axes[n];
+    axis_t *x = axis_at[n];
     stp_t *s = &stp_ax[n];
     if (x->mode == M_TEST) {
         /* 5.13: <da> in Hz straight to the generator, no profile, no USR */

@@ -27,7 +27,6 @@ _cache = {}
 # "Where the firmware stands").  Lower them as the firmware improves.
 NOT_YET_MET = {
     ("servo_tick", "ssi"): 5700,           # cycles; 4000
-    ("creep_need", "stp"): 18000,          # tick + 4 pulse interrupts; 16000 (1 kHz)
     ("cpu_load", "inc"): 42.5,             # percent; 25 (the command path at ~1 800 cycles)
 }
 
