@@ -58,6 +58,7 @@ static void vq_compute(unsigned n, uint8_t turbo)
     x->q_pd = vq(n, PAR(n, PD));
     x->q_ed = vq(n, PAR(n, ED));
     x->q_free = prof_free_distance(x->q_pv, x->q_pd);
+    x->q_fit = x->q_pv < (1l << 30) && x->q_pa < (1l << 30) && x->q_pd < (1l << 30);
     x->q_fast = x->q_pv < (1l << 30) && x->q_pa < (1l << 30) && x->q_free > 0 &&
                 x->q_free < ((int64_t)1 << 60);
     if (x->q_fast) {                             /* the positioning target's cruise limits */
@@ -466,7 +467,10 @@ static void profile_modes(unsigned n)
             if (!x->done && stp_positioning(n, x->q_pv, x->q_pa, x->q_pd, stp_ssf_now))
                 x->done = 1;
 #else
-            if (!x->done && prof_position_free(p, x->target, x->q_pv, x->q_pa, x->q_pd, x->q_free)) {
+            if (!x->done &&
+                (x->q_fit ? prof_position_fit(p, x->target, (int32_t)x->q_pv, (int32_t)x->q_pa, (int32_t)x->q_pd,
+                                              x->q_free)
+                          : prof_position_free(p, x->target, x->q_pv, x->q_pa, x->q_pd, x->q_free))) {
                 x->done = 1;
             }
 #endif

@@ -49,11 +49,95 @@ int prof_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t 
     return prof_position_free(p, target, vmax, acc, dec, 0);
 }
 
-int prof_position_free(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t dec, int64_t free)
+/* ---- the same step in 32 bits ----------------------------------------------
+ * Less than 2^31 to go (Q16: 32 768 increments), speeds and ramps below
+ * 2^30: the braking phase of every move and whole short moves need no 64-bit
+ * arithmetic, and the braking test is two or three MULU.W (mulu31) instead
+ * of two 32 x 32 products.  The results are those of the 64-bit step
+ * (prof_position_ref, tests/unit/test_profile.c compares them). */
+#define R30 0x40000000
+
+/* prof_must_brake() for 0 <= v, dec < 2^30, rem < 2^31: (v8 (v8 + d8)) >> 1
+ * >= d8 r8 is v8 (v8 + d8) >= d8 (2 r8), and nothing saturates here. */
+static inline __attribute__((always_inline)) int must_brake32(uint32_t v, uint32_t dec, uint32_t rem)
+{
+    uint32_t v8 = v >> 8, d8 = dec >> 8, r8 = rem >> 8;
+    if (d8 == 0)
+        d8 = 1;
+    uint32_t h1, l1, h2, l2;
+    mulu31(v8, v8 + d8, &h1, &l1);
+    mulu31(d8, r8 << 1, &h2, &l2);
+    return h1 > h2 || (h1 == h2 && l1 >= l2);
+}
+
+static inline __attribute__((always_inline)) int position32(prof_t *p, int64_t target, int32_t rem, int32_t vel,
+                                                             int32_t vmax, int32_t acc, int32_t dec, int64_t free)
+{
+    if (rem == 0 && vel == 0)
+        return 1;
+    int neg = rem < 0;
+    if (neg)
+        rem = -rem;
+    int32_t v = neg ? -vel : vel;                /* speed towards the target */
+    if (v < 0) {                                 /* moving away: turn round first */
+        v += dec;
+        if (v > 0)
+            v = 0;
+    } else {
+        int quick = free > 0 && rem > free && v <= vmax;
+        int32_t up = v;
+        if (v < vmax) {
+            up = v + acc;
+            if (up > vmax)
+                up = vmax;
+        } else if (v > vmax) {
+            up = v - dec;
+            if (up < vmax)
+                up = vmax;
+        }
+        if (up > 0 && (quick || !must_brake32((uint32_t)up, (uint32_t)dec, (uint32_t)rem))) {
+            v = up;
+        } else if (v > 0 && v <= vmax && (quick || !must_brake32((uint32_t)v, (uint32_t)dec, (uint32_t)rem))) {
+            /* cruise */
+        } else {
+            v -= dec;
+            if (v < dec)
+                v = dec;
+        }
+        if (v > rem)
+            v = rem;
+        if (v <= 0)
+            v = rem < dec ? rem : dec;
+    }
+    p->vel = neg ? -v : v;
+    p->pos += p->vel;
+    if (p->pos == target) {
+        p->vel = 0;
+        return 1;
+    }
+    return 0;
+}
+
+int prof_position_fit(prof_t *p, int64_t target, int32_t vmax, int32_t acc, int32_t dec, int64_t free)
 {
     int64_t rem = target - p->pos;
+    if (rem > -(int64_t)0x7FFFFFFF && rem < (int64_t)0x7FFFFFFF && p->vel > -R30 && p->vel < R30)
+        return position32(p, target, (int32_t)rem, (int32_t)p->vel, vmax, acc, dec, free);
+    return prof_position_ref(p, target, vmax, acc, dec, free);
+}
+
+int prof_position_free(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t dec, int64_t free)
+{
     if (prof_cruise(p, target, vmax, acc, free))
         return 0;
+    if (vmax < R30 && acc < R30 && dec < R30)
+        return prof_position_fit(p, target, (int32_t)vmax, (int32_t)acc, (int32_t)dec, free);
+    return prof_position_ref(p, target, vmax, acc, dec, free);
+}
+
+int prof_position_ref(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t dec, int64_t free)
+{
+    int64_t rem = target - p->pos;
     if (rem == 0 && p->vel == 0)
         return 1;
     int neg = rem < 0;

@@ -22,6 +22,12 @@ int prof_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t 
  * needs braking yet (prof_free_distance): the braking test is skipped
  * there, with the same result. */
 int prof_position_free(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t dec, int64_t free);
+/* The same for vmax, acc and dec below 2^30 (Q16 per SP), told so: in 32
+ * bits while the rest to go is below 2^31 (the braking phase, short moves). */
+int prof_position_fit(prof_t *p, int64_t target, int32_t vmax, int32_t acc, int32_t dec, int64_t free);
+/* The same step in 64 bits throughout: the reference the 32-bit path of
+ * prof_position_free() is tested against, and its fallback. */
+int prof_position_ref(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t dec, int64_t free);
 /* The step prof_position_free() takes far from the target (rest beyond
  * `free`) at most at vmax towards it: accelerate by acc up to vmax, no test.
  * Returns 0 where that does not apply (nothing changed), 1 when it moved p.

@@ -81,31 +81,6 @@ static int stp_must_brake(int64_t u, int64_t dec, int64_t rem, int64_t ssf)
  * 64-bit product prof_umul32(), a shift by a variable amount a helper call). */
 #define STP_R30 0x40000000u
 
-/* a * b, for a, b < 2^31, as two 32-bit words from MULU.W: one when both
- * factors fit 16 bits, two when a does. */
-static inline __attribute__((always_inline)) void stp_umul(uint32_t a, uint32_t b, uint32_t *hi, uint32_t *lo)
-{
-    uint16_t al = (uint16_t)a, bl = (uint16_t)b, bh = (uint16_t)(b >> 16);
-    uint32_t ll = mulu16(al, bl);
-    if (a < 0x10000u) {
-        if (!bh) {
-            *hi = 0;
-            *lo = ll;
-            return;
-        }
-        uint32_t m = mulu16(al, bh);
-        uint32_t l = ll + (m << 16);
-        *hi = (m >> 16) + (l < ll);
-        *lo = l;
-        return;
-    }
-    uint16_t ah = (uint16_t)(a >> 16);
-    uint32_t mid = mulu16(ah, bl) + mulu16(al, bh);    /* < 2^32: a, b < 2^31 */
-    uint32_t l = ll + (mid << 16);
-    *hi = mulu16(ah, bh) + (mid >> 16) + (l < ll);
-    *lo = l;
-}
-
 /* stp_must_brake() for 0 <= u, dec < 2^30, rem < 2^32, ssf >= 1:
  * prof_must_brake()'s (v8 (v8 + d8)) >> 1 >= d8 r8 is v8 (v8 + d8) >= d8 (2 r8),
  * and nothing saturates in this range. */
@@ -119,8 +94,8 @@ static inline __attribute__((always_inline)) int stp_must_brake32(int32_t u, int
     if (d8 == 0)
         d8 = 1;
     uint32_t h1, l1, h2, l2;
-    stp_umul(v8, v8 + d8, &h1, &l1);
-    stp_umul(d8, r8 << 1, &h2, &l2);
+    mulu31(v8, v8 + d8, &h1, &l1);
+    mulu31(d8, r8 << 1, &h2, &l2);
     return h1 > h2 || (h1 == h2 && l1 >= l2);
 }
 

@@ -31,6 +31,31 @@ static inline int32_t muls16(int16_t a, int16_t b)
 #endif
 }
 
+/* a * b, for a, b < 2^31, as two 32-bit words from MULU.W: one when both
+ * factors fit 16 bits, two when a does. */
+static inline __attribute__((always_inline)) void mulu31(uint32_t a, uint32_t b, uint32_t *hi, uint32_t *lo)
+{
+    uint16_t al = (uint16_t)a, bl = (uint16_t)b, bh = (uint16_t)(b >> 16);
+    uint32_t ll = mulu16(al, bl);
+    if (a < 0x10000u) {
+        if (!bh) {
+            *hi = 0;
+            *lo = ll;
+            return;
+        }
+        uint32_t m = mulu16(al, bh);
+        uint32_t l = ll + (m << 16);
+        *hi = (m >> 16) + (l < ll);
+        *lo = l;
+        return;
+    }
+    uint16_t ah = (uint16_t)(a >> 16);
+    uint32_t mid = mulu16(ah, bl) + mulu16(al, bh);    /* < 2^32: a, b < 2^31 */
+    uint32_t l = ll + (mid << 16);
+    *hi = mulu16(ah, bh) + (mid >> 16) + (l < ll);
+    *lo = l;
+}
+
 /* Keep a value in a data register.  GCC 12 for m68k turns (int16_t)(x >> 8)
  * of a 32-bit variable in memory into a word load at an odd offset, which a
  * 68000 answers with an address error; passing the value through here first

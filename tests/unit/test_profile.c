@@ -191,11 +191,40 @@ static void cruise32_is_the_general_step(void **state)
     assert_true(applied > 1000 && declined > 1000);
 }
 
+/* prof_position_free's 32-bit path gives what the 64-bit reference gives,
+ * step for step, over whole moves that start in and out of its range. */
+static void position32_is_the_reference(void **state)
+{
+    (void)state;
+    long steps = 0;
+    for (int i = 0; i < 3000; i++) {
+        int64_t vmax = Q(1 + rnd32() % 400) + (rnd32() & 0xFFFF);
+        int64_t acc = Q(rnd32() % 40) + (rnd32() & 0xFFFF) + 1;
+        int64_t dec = Q(rnd32() % 40) + (rnd32() & 0xFFFF) + 1;
+        int64_t free = i % 3 ? prof_free_distance(vmax, dec) : 0;
+        prof_t a, b;
+        a.pos = (int64_t)((int32_t)rnd32() >> (i % 2 ? 8 : 14)) * 65536;
+        a.vel = (int64_t)((int32_t)rnd32() >> 12);                 /* moving either way */
+        b = a;
+        int64_t to = i % 5 ? (int64_t)((int32_t)rnd32() >> 12) * 65536 + (rnd32() & 0xFFFF) : a.pos + Q(1);
+        for (int k = 0; k < 20000; k++) {
+            int da = prof_position_free(&a, to, vmax, acc, dec, free);
+            int db = prof_position_ref(&b, to, vmax, acc, dec, free);
+            steps++;
+            assert_true(a.pos == b.pos && a.vel == b.vel && da == db);
+            if (da)
+                break;
+        }
+    }
+    assert_true(steps > 100000);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(free_distance_needs_no_braking),
         cmocka_unit_test(cruise32_is_the_general_step),
+        cmocka_unit_test(position32_is_the_reference),
         cmocka_unit_test(lands_exactly_random),
         cmocka_unit_test(triangle_and_trapezoid_timing),
         cmocka_unit_test(fractional_velocities),
