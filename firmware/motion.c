@@ -253,6 +253,9 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from)
 #if MAC4_CARD == MAC4_CARD_STP
     stp_motion_start(n, mode, vq(n, PAR(n, SSF)));   /* creep phase, <lv>, TURBO (stepper.c) */
 #endif
+    /* the velocities and the cruise limits of the new mode and target, now:
+     * in the command, not in the profile generator's next step */
+    vq_refresh(n);
 }
 
 void motion_emergency(unsigned n, uint8_t then)

@@ -103,6 +103,17 @@ def moving(card, ms=1000, host_load=True):
     return "\n".join(lines) + "\n"
 
 
+def whole_moves(card, ms=1400):
+    """Four axes through whole moves inside the window: accelerate, cruise,
+    brake and land (INC/SSI 6000-8000 increments at 100 per SP), so that the
+    profile generator's worst SP - all four braking - is in it."""
+    base = SSI_AT if card == "ssi" else 0
+    tg = [base + d for d in (8000, -8000, 6000, -6000)]
+    lines = setup_lines(card) + enable_lines(card) + move_lines(card, tg)
+    lines += window_lines(ms, False, lead_ms=5)
+    return "\n".join(lines) + "\n"
+
+
 def idle(card, ms=1000):
     """The card booted, axes enabled at standstill; the host sending back to back."""
     lines = setup_lines(card) + enable_lines(card) + window_lines(ms, True)
