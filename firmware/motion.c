@@ -369,6 +369,32 @@ static void next_segment(axis_t *x, int64_t before)
 
 static void profile_modes(unsigned n) __attribute__((noinline));
 
+/* 5.6: pos_end once the axis has been in the target radius <tr> for <trt>
+ * sampling periods after the setpoint arrived. */
+static void pos_end_check(unsigned n)
+{
+    axis_t *x = axis_at[n];
+    int64_t d = (x->target >> 16) - x->meas;
+    if (d < 0)
+        d = -d;
+#if MAC4_CARD == MAC4_CARD_STP
+    d -= stp_tol(n);                             /* 5.6: the tolerance of <ms>/(4 <es>) */
+#endif
+    if (d <= PAR(n, TR)) {
+        if (x->trt_count >= x->trt_periods) {
+            x->ustat |= UB(POS_END);
+#if MAC4_CARD == MAC4_CARD_STP
+            x->sstat |= SB(IN_POS);              /* 7.1.2: MAC4-STP only (LED P) */
+#endif
+            vme_irq((uint8_t)PAR(n, IRQ4));
+        } else {
+            x->trt_count++;
+        }
+    } else {
+        x->trt_count = 0;
+    }
+}
+
 /* A protective stop has ramped down: what follows it (4.8). */
 static void stop_done(unsigned n)
 {
@@ -398,6 +424,13 @@ void motion_profile_tick(unsigned n)
         brake_done(x);
     }
 #if MAC4_CARD != MAC4_CARD_STP
+    if (x->mode == M_POSITIONING && !x->stop_then && x->done) {
+        /* on target: the setpoint stands (the step would be 0) until pos_end */
+        if (!(x->ustat & UB(POS_END)))
+            pos_end_check(n);
+        rows_of(x, x->prof.pos, 0);
+        return;
+    }
     if (x->mode == M_POSITIONING && !x->stop_then && !x->done) {
         vq_refresh_x(x, n);
         int64_t before = x->prof.pos;
@@ -405,6 +438,19 @@ void motion_profile_tick(unsigned n)
         if (x->q_fast &&
             (d = prof_cruise32(&x->prof, x->q_hi, x->q_lo, (int32_t)x->q_pv, (int32_t)x->q_pa)) != 0) {
             rows_of(x, before, d);
+            return;
+        }
+        if (x->q_fit) {                          /* braking, landing: what profile_modes does */
+            if (prof_position_fit(&x->prof, x->target, (int32_t)x->q_pv, (int32_t)x->q_pa, (int32_t)x->q_pd,
+                                  x->q_free)) {
+                x->done = 1;
+                pos_end_check(n);
+            }
+            int64_t dd = x->prof.pos - before;
+            if (dd < (1l << 30) && dd > -(1l << 30))
+                rows_of(x, before, (int32_t)dd);  /* the usual SP, in 32 bits */
+            else
+                next_segment(x, before);
             return;
         }
     }
@@ -477,28 +523,8 @@ static void profile_modes(unsigned n)
                 x->done = 1;
             }
 #endif
-            if (x->done && !(x->ustat & UB(POS_END))) {
-                /* 5.6: in the target radius for <trt> sampling periods */
-                int64_t d = (x->target >> 16) - x->meas;
-                if (d < 0)
-                    d = -d;
-#if MAC4_CARD == MAC4_CARD_STP
-                d -= stp_tol(n);                 /* 5.6: the tolerance of <ms>/(4 <es>) */
-#endif
-                if (d <= PAR(n, TR)) {
-                    if (x->trt_count >= x->trt_periods) {
-                        x->ustat |= UB(POS_END);
-#if MAC4_CARD == MAC4_CARD_STP
-                        x->sstat |= SB(IN_POS);  /* 7.1.2: MAC4-STP only (LED P) */
-#endif
-                        vme_irq((uint8_t)PAR(n, IRQ4));
-                    } else {
-                        x->trt_count++;
-                    }
-                } else {
-                    x->trt_count = 0;
-                }
-            }
+            if (x->done && !(x->ustat & UB(POS_END)))
+                pos_end_check(n);
             break;
         case M_SEARCH_IDX_C:                     /* 5.7 */
             if (x->phase == 0) {
