@@ -57,19 +57,6 @@ int prof_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t 
  * (prof_position_ref, tests/unit/test_profile.c compares them). */
 #define R30 0x40000000
 
-/* prof_must_brake() for 0 <= v, dec < 2^30, rem < 2^31: (v8 (v8 + d8)) >> 1
- * >= d8 r8 is v8 (v8 + d8) >= d8 (2 r8), and nothing saturates here. */
-static inline __attribute__((always_inline)) int must_brake32(uint32_t v, uint32_t dec, uint32_t rem)
-{
-    uint32_t v8 = v >> 8, d8 = dec >> 8, r8 = rem >> 8;
-    if (d8 == 0)
-        d8 = 1;
-    uint32_t h1, l1, h2, l2;
-    mulu31(v8, v8 + d8, &h1, &l1);
-    mulu31(d8, r8 << 1, &h2, &l2);
-    return h1 > h2 || (h1 == h2 && l1 >= l2);
-}
-
 static inline __attribute__((always_inline)) int position32(prof_t *p, int64_t target, int32_t rem, int32_t vel,
                                                              int32_t vmax, int32_t acc, int32_t dec, int64_t free)
 {
@@ -95,9 +82,9 @@ static inline __attribute__((always_inline)) int position32(prof_t *p, int64_t t
             if (up < vmax)
                 up = vmax;
         }
-        if (up > 0 && (quick || !must_brake32((uint32_t)up, (uint32_t)dec, (uint32_t)rem))) {
+        if (up > 0 && (quick || !prof_must_brake32((uint32_t)up, (uint32_t)dec, (uint32_t)rem))) {
             v = up;
-        } else if (v > 0 && v <= vmax && (quick || !must_brake32((uint32_t)v, (uint32_t)dec, (uint32_t)rem))) {
+        } else if (v > 0 && v <= vmax && (quick || !prof_must_brake32((uint32_t)v, (uint32_t)dec, (uint32_t)rem))) {
             /* cruise */
         } else {
             v -= dec;

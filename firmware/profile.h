@@ -8,6 +8,7 @@
 #ifndef PROFILE_H
 #define PROFILE_H
 #include <stdint.h>
+#include "mul16.h"
 
 typedef struct {
     int64_t pos;    /* Q16 */
@@ -90,6 +91,19 @@ int prof_ramp(prof_t *p, int64_t vt, int64_t acc, int64_t dec);
 /* Would a stop from speed v (>= 0) with ramp dec cover at least rem?
  * Exposed for the tests. */
 int prof_must_brake(int64_t v, int64_t dec, int64_t rem);
+/* The same for 0 <= v, dec < 2^30 and rem < 2^32: (v8 (v8 + d8)) >> 1 >=
+ * d8 r8 is v8 (v8 + d8) >= d8 (2 r8), and nothing saturates in this range;
+ * two or three MULU.W (mulu31) instead of two 32 x 32 products. */
+static inline __attribute__((always_inline)) int prof_must_brake32(uint32_t v, uint32_t dec, uint32_t rem)
+{
+    uint32_t v8 = v >> 8, d8 = dec >> 8, r8 = rem >> 8;
+    if (d8 == 0)
+        d8 = 1;
+    uint32_t h1, l1, h2, l2;
+    mulu31(v8, v8 + d8, &h1, &l1);
+    mulu31(d8, r8 << 1, &h2, &l2);
+    return h1 > h2 || (h1 == h2 && l1 >= l2);
+}
 uint64_t prof_umul32(uint32_t a, uint32_t b);
 
 #endif

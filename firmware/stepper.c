@@ -81,22 +81,14 @@ static int stp_must_brake(int64_t u, int64_t dec, int64_t rem, int64_t ssf)
  * 64-bit product prof_umul32(), a shift by a variable amount a helper call). */
 #define STP_R30 0x40000000u
 
-/* stp_must_brake() for 0 <= u, dec < 2^30, rem < 2^32, ssf >= 1:
- * prof_must_brake()'s (v8 (v8 + d8)) >> 1 >= d8 r8 is v8 (v8 + d8) >= d8 (2 r8),
- * and nothing saturates in this range. */
+/* stp_must_brake() for 0 <= u, dec < 2^30, rem < 2^32, ssf >= 1. */
 static inline __attribute__((always_inline)) int stp_must_brake32(int32_t u, int32_t dec, uint32_t rem, int32_t ssf)
 {
     if (u <= ssf)
         return 0;
     if (rem <= (uint32_t)ssf)
         return 1;
-    uint32_t v8 = (uint32_t)u >> 8, d8 = (uint32_t)dec >> 8, r8 = (rem - (uint32_t)ssf) >> 8;
-    if (d8 == 0)
-        d8 = 1;
-    uint32_t h1, l1, h2, l2;
-    mulu31(v8, v8 + d8, &h1, &l1);
-    mulu31(d8, r8 << 1, &h2, &l2);
-    return h1 > h2 || (h1 == h2 && l1 >= l2);
+    return prof_must_brake32((uint32_t)u, (uint32_t)dec, rem - (uint32_t)ssf);
 }
 
 /* One SP of stp_position(): the distance to go as sign (neg) and magnitude
