@@ -516,8 +516,8 @@ void fw_isr_tick(void)
 /* Main loop, once after every tick (fw_main_step calls it first).  Each
  * axis with interrupts masked, so it sees one tick's results, never half of
  * the next.  A reaction taken here acts within the servo period of the
- * event: axis_disable() opens /EN at once, the ramps start with the next SP
- * segment, which the profile generator has not prepared yet. */
+ * event: axis_disable() opens /EN at once, and a ramp is braked by the tick
+ * itself from the next tick on (motion.c, brake_now). */
 
 #if MAC4_CARD != MAC4_CARD_STP
 /* The setpoint and following error of the tick in phase ph, as it used
