@@ -1,8 +1,11 @@
 /*
  * card.c - reset state, the periodic tick and the main loop.
- * Data flows one way through a tick: stop bits -> position measurement ->
- * switches and protective reactions -> (profile, servo filter: later
- * issues) -> outputs -> published axis data.
+ * Data flows one way through a tick: position measurement -> the setpoint
+ * the profile generator prepared for this tick -> servo filter (STP: step
+ * rate) -> outputs.  After it, in the main loop (card_supervise): what the
+ * tick did -> switches, stop bits and protective reactions -> status and
+ * the published axis data; then the profile generator's next SP, one axis
+ * per pass, and the commands.
  */
 #include "fw.h"
 #include "hal.h"
