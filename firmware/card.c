@@ -155,7 +155,7 @@ void axis_prepare(unsigned n)
 void axis_set_pos(unsigned n)
 {
     axis_t *x = &axes[n];
-    int32_t pos = (int32_t)((uint32_t)x->meas + (uint32_t)PAR(n, AO));
+    int32_t pos = pos_add(x->meas, PAR(n, AO));
     if (!x->linear) {
         pos %= x->cr;          /* main loop only: a division is fine here */
         if (pos < 0)
@@ -229,7 +229,7 @@ uint16_t card_profile_late;
 /* The profile generator runs in the main loop, one SP ahead of the servo
  * ticks that interpolate its segments: the tick stays short, and the
  * profile has a whole SP to finish (7.4).  One axis per main-loop pass
- * (card_profile_due: a bit per axis still to do), so a command waits for
+ * (card_profile_due: how many axes are still to do), so a command waits for
  * one axis' step at most, not four; each with interrupts masked, so a tick
  * never sees half a segment or half a mode change. */
 void card_profile_tick(void)
@@ -384,14 +384,8 @@ static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned
     uint8_t mk = x->mk_tick;                      /* MK_NONE before INIT (4.9) */
     if (mk != MK_NONE) {
 #if MAC4_CARD != MAC4_CARD_SSI
-        if (mk == MK_COUNTER) {
-            /* internal 24-bit counter, relative (table 4.3): the common
-             * case.  One word: its difference is the period's motion
-             * (docs/memory-map.md, AX_CNT_LIVE); the 24 bits are ours */
-            uint32_t c = x->counter;
-            int32_t d = (int16_t)(uint16_t)(hal_rd16(AX_REG(n, AX_CNT_LIVE)) - (uint16_t)c);
-            x->counter = (c + (uint32_t)d) & 0xFFFFFFu;   /* RCT, RED: card_supervise */
-            measure_apply(x, d);
+        if (mk == MK_COUNTER) {                   /* the common case */
+            measure_apply(x, measure_counter(x, n));
         } else {
 #else
         if (mk == MK_SSI) {                       /* the encoder at the connector */
@@ -469,28 +463,16 @@ void fw_isr_tick(void)
 }
 #else
 /* The STP's position counter (steps, or encoder increments with BR closed)
- * as the INC's: one live word, its 16-bit difference the period's motion;
- * increments become steps (<ms>/(4 <es>)), and without the encoder the
- * counter follows DIR, which USR turns round. */
+ * as the INC's, converted to steps. */
 static inline __attribute__((always_inline)) void stp_tick_measure(unsigned n)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
     uint8_t mk = x->mk_tick;
-    if (mk == MK_NONE)
-        return;                                   /* position reads 0 before INIT (4.9) */
-    if (mk != MK_COUNTER) {
+    if (mk == MK_COUNTER)
+        measure_apply(x, measure_steps(x, n, measure_counter(x, n)));
+    else if (mk != MK_NONE)                       /* MK_NONE: position reads 0 before INIT (4.9) */
         measure_axis(n);                          /* external (measure.c) */
-        return;
-    }
-    uint32_t c = x->counter;
-    int32_t d = (int16_t)(uint16_t)(hal_rd16(AX_REG(n, AX_CNT_LIVE)) - (uint16_t)c);
-    x->counter = (c + (uint32_t)d) & 0xFFFFFFu;   /* RCT, RED: card_supervise */
-    if (stp_conv & (1u << n))
-        d = stp_measured(n, d);
-    else if (x->ustat & UB(REV_O))
-        d = -d;
-    measure_apply(x, d);
 }
 
 void fw_isr_tick(void)

@@ -231,7 +231,7 @@ static int write_param(unsigned a, unsigned p, int32_t v)
             return ERR_LOGICAL;   /* 6.3.7: position set only at stand-still */
         if (axis_initialised(a)) {
             /* <ao> such that the actual position becomes v (4.3.2) */
-            int32_t ao = (int32_t)((uint32_t)v - (uint32_t)axes[a].meas);
+            int32_t ao = pos_sub(v, axes[a].meas);
             par_w[P_AO][a] = par_a[P_AO][a] = ao;
             axis_set_pos(a);
         }

@@ -15,19 +15,8 @@
 #endif
 
 meas_cfg_t meas_cfg[MAC4_NAXES];
-#define mc meas_cfg
-
 static uint32_t eb_mask(int32_t eb) { return eb >= 32 ? 0xFFFFFFFFu : (((uint32_t)1 << eb) - 1u); }
 
-/* Sign-extend the difference of two eb-bit counter readings: correct as
- * long as the axis moves less than half the counter range per tick. */
-static int32_t delta_eb(uint32_t now, uint32_t last, int32_t eb)
-{
-    uint32_t d = (now - last) & eb_mask(eb);
-    if (eb < 32 && (d & ((uint32_t)1 << (eb - 1))))
-        d |= ~eb_mask(eb);
-    return (int32_t)d;
-}
 
 
 
@@ -86,7 +75,7 @@ static int read_raw(unsigned n, uint32_t *raw)
         *raw = v;
         return 0;
     }
-    const meas_cfg_t *c = &mc[n];
+    const meas_cfg_t *c = &meas_cfg[n];
     uint32_t v;
     switch (c->path) {
     case EXT_DPRAM:                                     /* external, via the DPRAM (3.5.2) */
@@ -123,9 +112,9 @@ static int read_raw(unsigned n, uint32_t *raw)
  * through; enabled again, the next failure raises it again. */
 void measure_encoder_error(unsigned n)
 {
-    if (mc[n].failed)
+    if (meas_cfg[n].failed)
         return;
-    mc[n].failed = 1;
+    meas_cfg[n].failed = 1;
     axis_error(n, UB(ENCODER_F) | UB(LOGO_F), ERR_LOGICAL);
     axis_disable(n);                                    /* without a ramp */
 }
@@ -136,57 +125,30 @@ void measure_axis(unsigned n)
     PIN_PTR(x);
     if (!axis_initialised(n))
         return;                                         /* position reads 0 before INIT (4.9) */
-    int32_t d;
-    if (x->mk == MK_COUNTER) {
-        /* the common case, kept short: 24-bit counter, relative (table 4.3) */
-        uint32_t hi = hal_rd16(AX_REG(n, AX_CNT_HI));   /* latches LO */
-        uint32_t raw = (hi << 16) | hal_rd16(AX_REG(n, AX_CNT_LO));
-        d = (int32_t)((raw - x->counter) << 8) >> 8;
-        x->raw = x->counter = raw;
-    } else if (mc[n].path == EXT_SSI) {
-        if (measure_ssi(x, n, &d))
-            return;
-    } else {
-        meas_cfg_t *c = &mc[n];
-        uint32_t raw;
-        if (x->mode != M_DISABLE)
-            c->failed = 0;                              /* the axis runs: a failure counts again */
-        if (read_raw(n, &raw)) {
-            measure_encoder_error(n);
-            return;
-        }
-        int32_t et = PAR(n, ET), eb = PAR(n, EB);
-        raw &= eb_mask(eb);
-        if (raw > c->lim) {                             /* beyond <ec> (4.4.2.1, 6.3.8) */
-            x->raw = raw;                               /* RED shows what was read */
-            measure_encoder_error(n);
-            return;
-        }
-        if ((et == 2 || et == 4) && (x->linear || MAC4_CARD == MAC4_CARD_STP)) {   /* absolute */
-#if MAC4_CARD == MAC4_CARD_STP
-            d = (int32_t)(raw - (uint32_t)stp_counts(n));   /* in increments, converted below */
-#else
-            d = (int32_t)(raw - (uint32_t)x->meas);
-#endif
-        } else if (et == 2 || et == 4) {
-            d = circular_delta(x, raw);
-        } else if (c->range) {                          /* relative, the counter wraps at <ec> */
-            d = (int32_t)(raw - x->counter);            /* |true delta| < <ec>/2 per tick */
-            if (d > c->half)
-                d -= c->range;
-            else if (d < -c->half)
-                d += c->range;
-        } else {                                        /* relative, wraps at 2^<eb> */
-            d = delta_eb(raw, x->counter, eb);
-        }
-        x->raw = raw;
-        x->counter = raw;
+    meas_cfg_t *c = &meas_cfg[n];
+    uint32_t raw;
+    if (x->mode != M_DISABLE)
+        c->failed = 0;                                  /* the axis runs: a failure counts again */
+    if (read_raw(n, &raw)) {
+        measure_encoder_error(n);
+        return;
+    }
+    raw &= c->mask;
+    if (raw > c->lim) {                                 /* beyond <ec> (4.4.2.1, 6.3.8) */
+        x->raw = raw;                                   /* RED shows what was read */
+        measure_encoder_error(n);
+        return;
     }
 #if MAC4_CARD == MAC4_CARD_STP
-    if (stp_conv & (1u << n))
-        d = stp_measured(n, d);                         /* increments -> steps: <ms>/(4 <es>) */
-    else if (x->ustat & UB(REV_O))
-        d = -d;                                         /* the step counter follows DIR (USR) */
+    /* absolute: the reading against the counter in its increments */
+    int32_t d = c->abs ? (int32_t)(raw - (uint32_t)stp_counts(n)) : measure_delta(x, c, raw);
+#else
+    int32_t d = measure_delta(x, c, raw);
+#endif
+    x->raw = raw;
+    x->counter = raw;
+#if MAC4_CARD == MAC4_CARD_STP
+    d = measure_steps(x, n, d);
 #endif
     measure_apply(x, d);
 }
@@ -194,7 +156,7 @@ void measure_axis(unsigned n)
 void measure_init(unsigned n)
 {
     axis_t *x = axis_at[n];
-    meas_cfg_t *c = &mc[n];
+    meas_cfg_t *c = &meas_cfg[n];
     int32_t et = PAR(n, ET), eb = PAR(n, EB), ec = PAR(n, EC);
 #if MAC4_CARD == MAC4_CARD_SSI
     /* the code of the first reading is J1's now (the status follows at every tick) */
@@ -243,11 +205,11 @@ void measure_init(unsigned n)
         }
     }
     c->abs = et == 2 || et == 4;
+    c->mask = eb_mask(eb);
+    c->sign = eb < 32 ? (uint32_t)1 << (eb - 1) : 0;
     if (MAC4_CARD == MAC4_CARD_SSI && et <= 2) {
         c->path = EXT_SSI;
         c->sc = (uint8_t)PAR(n, SC);
-        c->mask = eb_mask(eb);
-        c->sign = eb < 32 ? (uint32_t)1 << (eb - 1) : 0;
     }
     c->failed = 0;
     /* A repeated INIT restarts a relative measurement at 0 (4.9). */

@@ -4,8 +4,12 @@
 #include <stdint.h>
 #include "hal.h"
 #include "card.h"
+#if MAC4_CARD == MAC4_CARD_STP
+#include "stepper.h"
+#endif
 
-void measure_axis(unsigned n);     /* read and process one axis */
+void measure_axis(unsigned n);     /* tick: an external position (<et> 3/4); the counter and
+                                    * the SSI encoder are measure_counter/measure_ssi inline */
 void measure_init(unsigned n);     /* INIT: derive <ea>/<eb>/<ec>, zero relative position */
 /* May an external position (<et> 3/4) be read at <ea> with <eb> significant
  * bits (eb 0: not known yet)?  The rule of docs/interpretations.md. */
@@ -21,8 +25,8 @@ typedef struct {
     uint32_t lim;       /* the largest valid value: <ec> - 1, or 2^<eb> - 1 */
     int32_t range;      /* relative modulo <ec> when <ec> < 2^<eb>, else 0 (2^<eb>: delta_eb) */
     int32_t half;       /* range / 2 */
-    uint32_t mask;      /* EXT_SSI: 2^<eb> - 1 */
-    uint32_t sign;      /* EXT_SSI relative: bit <eb>-1, the sign of a delta (0: 32 bits) */
+    uint32_t mask;      /* 2^<eb> - 1 */
+    uint32_t sign;      /* relative: bit <eb>-1, the sign of a delta (0: 32 bits) */
     uint16_t page;      /* EXT_VME*: VME_PAGE, A23-A20 */
     uint8_t path;       /* EXT_*; EXT_NONE for the INC/STP counter and a refused <ea> */
     uint8_t sc;         /* EXT_SSI: right shifts <sc> (4.4.2.2) */
@@ -56,6 +60,32 @@ static int32_t circular_delta(const axis_t *x, uint32_t raw)
     return d;
 }
 
+/* The motion since the last reading raw (<eb> bits, within <ec>), the same
+ * for every system: absolute on a linear axis the reading is the position;
+ * on a circular one the encoder's wrap is the axis' (4.3.1.2); relative,
+ * the counter wraps at <ec> or at 2^<eb> (table 4.3; less than half of it
+ * per tick).  The STP's absolute systems count in increments (measure_axis). */
+static inline __attribute__((always_inline)) int32_t measure_delta(const axis_t *x, const meas_cfg_t *c,
+                                                                   uint32_t raw)
+{
+    if (c->abs && x->linear)
+        return (int32_t)(raw - (uint32_t)x->meas);
+    if (c->abs)
+        return circular_delta(x, raw);
+    if (c->range) {
+        int32_t d = (int32_t)(raw - x->counter);
+        if (d > c->half)
+            d -= c->range;
+        else if (d < -c->half)
+            d += c->range;
+        return d;
+    }
+    uint32_t u = (raw - x->counter) & c->mask;
+    if (u & c->sign)
+        u |= ~c->mask;
+    return (int32_t)u;
+}
+
 /* SSI at the connector, everything prepared at INIT (the tick's path and
  * measure_axis'): the receiver read the encoder at the timer's expiry
  * (AX_CTRL_SSI_SYNC) and the tick came when it was done (TMR_CTRL_SSI_WAIT;
@@ -77,37 +107,42 @@ static inline __attribute__((always_inline)) int measure_ssi(axis_t *x, unsigned
         measure_encoder_error(n);
         return -1;
     }
-    int32_t d;
-    /* absolute on a linear axis: the reading is the position; on a circular
-     * one the encoder's wrap is the axis' (4.3.1.2) */
-    if (c->abs && x->linear) {
-        d = (int32_t)(raw - (uint32_t)x->meas);
-    } else if (c->abs) {
-        d = circular_delta(x, raw);
-    } else if (c->range) {                              /* relative, wraps at <ec> */
-        d = (int32_t)(raw - x->counter);
-        if (d > c->half)
-            d -= c->range;
-        else if (d < -c->half)
-            d += c->range;
-    } else {                                            /* relative, wraps at 2^<eb> */
-        uint32_t u = (raw - x->counter) & c->mask;
-        if (u & c->sign)
-            u |= ~c->mask;
-        d = (int32_t)u;
-    }
+    int32_t d = measure_delta(x, c, raw);
     x->raw = raw;
     x->counter = raw;
     *dp = d;
     return 0;
 }
 
+/* The internal 24-bit counter (INC, and the STP's step or encoder counter),
+ * relative (table 4.3): one word, AX_CNT_LIVE, whose 16-bit difference to
+ * the last reading is the period's motion (docs/memory-map.md); the 24-bit
+ * value is the firmware's (RCT; RED follows in card_supervise). */
+static inline __attribute__((always_inline)) int32_t measure_counter(axis_t *x, unsigned n)
+{
+    uint32_t c = x->counter;
+    int32_t d = (int16_t)(uint16_t)(hal_rd16(AX_REG(n, AX_CNT_LIVE)) - (uint16_t)c);
+    x->counter = (c + (uint32_t)d) & 0xFFFFFFu;
+    return d;
+}
+
+#if MAC4_CARD == MAC4_CARD_STP
+/* The STP measures in steps: encoder increments through <ms>/(4 <es>); the
+ * step counter itself follows DIR, which USR turns round (4.4.2.3, 4.2). */
+static inline __attribute__((always_inline)) int32_t measure_steps(const axis_t *x, unsigned n, int32_t d)
+{
+    if (stp_conv & (1u << n))
+        return stp_measured(n, d);
+    return (x->ustat & UB(REV_O)) ? -d : d;
+}
+#endif
+
 /* The motion d into the measured position and the displayed one, which a
  * circular axis keeps in 0 .. <cr>-1 (4.3.1.2).  RAV: card_supervise. */
 static inline __attribute__((always_inline)) void measure_apply(axis_t *x, int32_t d)
 {
-    x->meas = (int32_t)((uint32_t)x->meas + (uint32_t)d);   /* modulo 2^32, as on the 68000 */
-    int32_t pos = (int32_t)((uint32_t)x->pos + (uint32_t)d);
+    x->meas = pos_add(x->meas, d);
+    int32_t pos = pos_add(x->pos, d);
     if (!x->linear) {
         while (pos >= x->cr)
             pos -= x->cr;

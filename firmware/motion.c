@@ -36,21 +36,28 @@ static int64_t vq(unsigned n, int32_t v)
 #endif
 }
 
-/* The cached vq() values (axis_t q_*), fresh for this SP. */
-static void vq_compute(unsigned n, uint8_t turbo);
-static inline __attribute__((always_inline)) void vq_refresh_x(axis_t *x, unsigned n)
+/* The cached vq() values (axis_t q_*): recomputed when a parameter of the
+ * axis changed (par_gen), TURBO changed (STP, 4.1.3: x10), and at E (the
+ * cruise limits follow the target). */
+static inline __attribute__((always_inline)) uint8_t vq_turbo(const axis_t *x)
 {
 #if MAC4_CARD == MAC4_CARD_STP
-    uint8_t turbo = (x->sstat & SB(TURBO)) != 0;   /* 4.1.3: x10 */
+    return (x->sstat & SB(TURBO)) != 0;
 #else
-    const uint8_t turbo = 0;
+    (void)x;
+    return 0;
 #endif
-    if (x->q_gen != par_gen[n] || x->q_turbo != turbo)
-        vq_compute(n, turbo);
 }
-#define vq_refresh(n) vq_refresh_x(&axes[n], (n))
 
-static void vq_compute(unsigned n, uint8_t turbo)
+static void vq_compute(unsigned n);
+static inline __attribute__((always_inline)) void vq_refresh_x(axis_t *x, unsigned n)
+{
+    if (x->q_gen != par_gen[n] || x->q_turbo != vq_turbo(x))
+        vq_compute(n);
+}
+#define vq_refresh(n) vq_refresh_x(axis_at[n], (n))
+
+static void vq_compute(unsigned n)
 {
     axis_t *x = axis_at[n];
     x->q_pv = vq(n, PAR(n, PV));
@@ -67,7 +74,7 @@ static void vq_compute(unsigned n, uint8_t turbo)
         x->q_lo = x->target + f;
     }
     x->q_gen = par_gen[n];
-    x->q_turbo = turbo;
+    x->q_turbo = vq_turbo(x);
 }
 
 static int64_t meas_q(unsigned n) { return Q16(axes[n].meas); }
@@ -188,7 +195,7 @@ static void brake_done(axis_t *x)
 void motion_brake(unsigned n)
 {
     vq_refresh(n);
-    brake_now(&axes[n], axes[n].q_pd);
+    brake_now(axis_at[n], axis_at[n]->q_pd);
 }
 
 /* Tick side, at each SP boundary (STP; INC/SSI swap setpoint rows in
@@ -241,7 +248,6 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from)
     switch (mode) {
     case M_POSITIONING:
         x->target = target_of(n, PAR(n, AP));
-        x->q_gen = (uint16_t)~par_gen[n];         /* the cruise limits follow the target */
         break;
     case M_SEARCH_IDX_C:
     case M_SEARCH_IDX:
@@ -255,7 +261,7 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from)
 #endif
     /* the velocities and the cruise limits of the new mode and target, now:
      * in the command, not in the profile generator's next step */
-    vq_refresh(n);
+    vq_compute(n);
 }
 
 void motion_emergency(unsigned n, uint8_t then)
@@ -313,35 +319,41 @@ static inline __attribute__((always_inline)) void rows_of(axis_t *x, int64_t bef
     int32_t st = d >> 2, bi = (int32_t)(before >> 16);
     int32_t q0 = (int32_t)(uint16_t)before + 0x8000, q = q0;
     q += st;
-    /* positions are modulo 2^32 as on the 68000: unsigned sums, no
-     * undefined overflow where a setpoint passes +-2^31 */
-    r[0] = (int32_t)((uint32_t)bi + (uint32_t)(q >> 16));
+    r[0] = pos_add(bi, q >> 16);                 /* positions modulo 2^32 (card.h) */
     q += st;
-    r[1] = (int32_t)((uint32_t)bi + (uint32_t)(q >> 16));
+    r[1] = pos_add(bi, q >> 16);
     q += st;
-    r[2] = (int32_t)((uint32_t)bi + (uint32_t)(q >> 16));
-    r[3] = (int32_t)((uint32_t)bi + (uint32_t)((q0 + d) >> 16));
+    r[2] = pos_add(bi, q >> 16);
+    r[3] = pos_add(bi, (q0 + d) >> 16);
     x->nx_ready = 1;
 }
 
-static void next_segment(axis_t *x, int64_t before)
+static void next_segment_wide(axis_t *x, int64_t before);
+
+static inline __attribute__((always_inline)) void next_segment(axis_t *x, int64_t before)
 {
-    PIN_PTR(x);
-    const prof_t *p = &x->prof;
 #if MAC4_CARD != MAC4_CARD_STP
-    int64_t dd = p->pos - before;
+    int64_t dd = x->prof.pos - before;
     if (dd < (1l << 30) && dd > -(1l << 30)) {
         rows_of(x, before, (int32_t)dd);         /* the usual SP, in 32 bits */
         return;
     }
 #endif
+    next_segment_wide(x, before);
+}
+
+/* The rest: the STP's split segment, and an INC/SSI SP of 2^30 or more. */
+static void next_segment_wide(axis_t *x, int64_t before)
+{
+    PIN_PTR(x);
+    const prof_t *p = &x->prof;
+    int64_t d64 = p->pos - before;
 #if MAC4_CARD != MAC4_CARD_STP
-    x->sp_vel_next = dd > INT32_MAX ? INT32_MAX : dd < -INT32_MAX ? -INT32_MAX : (int32_t)dd;
+    x->sp_vel_next = d64 > INT32_MAX ? INT32_MAX : d64 < -INT32_MAX ? -INT32_MAX : (int32_t)d64;
 #endif
     split_q16(before, &x->nx_start_i, &x->nx_start_f);
     split_q16(p->pos, &x->nx_end_i, &x->nx_end_f);
-    int64_t d64 = p->pos - before;
-    if (d64 >= INT32_MIN && d64 <= INT32_MAX) {  /* the usual SP: no 64-bit shift */
+    if (d64 >= INT32_MIN && d64 <= INT32_MAX) {  /* no 64-bit shift */
         int32_t d32 = (int32_t)d64;
         // cppcheck-suppress shiftNegativeLHS ; arithmetic (floor) on GCC, as in rows_of
         int32_t st = d32 >> 2;
@@ -358,11 +370,11 @@ static void next_segment(axis_t *x, int64_t before)
     uint16_t f = x->nx_start_f;
     for (unsigned k = 0; k < PROFILE_DIVIDER - 1u; k++) {
         uint32_t f32 = (uint32_t)f + x->nx_st_f;
-        i = (int32_t)((uint32_t)i + (uint32_t)x->nx_st_i + (f32 >> 16));
+        i = pos_add(pos_add(i, x->nx_st_i), (int32_t)(f32 >> 16));
         f = (uint16_t)f32;
-        row[k] = (int32_t)((uint32_t)i + (f >= 0x8000u));
+        row[k] = pos_add(i, f >= 0x8000u);
     }
-    row[PROFILE_DIVIDER - 1u] = (int32_t)((uint32_t)x->nx_end_i + (x->nx_end_f >= 0x8000u));
+    row[PROFILE_DIVIDER - 1u] = pos_add(x->nx_end_i, x->nx_end_f >= 0x8000u);
 #endif
     x->nx_ready = 1;
 }
@@ -446,11 +458,7 @@ void motion_profile_tick(unsigned n)
                 x->done = 1;
                 pos_end_check(n);
             }
-            int64_t dd = x->prof.pos - before;
-            if (dd < (1l << 30) && dd > -(1l << 30))
-                rows_of(x, before, (int32_t)dd);  /* the usual SP, in 32 bits */
-            else
-                next_segment(x, before);
+            next_segment(x, before);
             return;
         }
     }
@@ -673,7 +681,7 @@ int16_t motion_servo_tick(unsigned n, unsigned phase)
             x->sp_f = x->start_f;
         }
         uint32_t f = (uint32_t)x->sp_f + x->st_f;
-        x->sp_i = (int32_t)((uint32_t)x->sp_i + (uint32_t)x->st_i + (f >> 16));   /* modulo 2^32 */
+        x->sp_i = pos_add(pos_add(x->sp_i, x->st_i), (int32_t)(f >> 16));
         x->sp_f = (uint16_t)f;
     }
     x->setpoint = pos_add(x->sp_i, x->sp_f >= 0x8000u);

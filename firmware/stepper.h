@@ -141,7 +141,7 @@ static inline __attribute__((always_inline)) void stp_servo(axis_t *x, unsigned 
 {
     stp_t *s = &stp_ax[n];
     PIN_PTR(s);
-    int32_t di = (int32_t)((uint32_t)x->sp_i - (uint32_t)old_i);
+    int32_t di = pos_sub(x->sp_i, old_i);
     if (s->creep == STP_CREEP_IDLE && (uint32_t)di + 30000u <= 60000u) {
         /* the setpoint of the last tick is where its steps have brought the
          * axis by now (the steps of this tick are still to come, 4.8.1) */

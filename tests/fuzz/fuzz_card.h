@@ -267,6 +267,15 @@ static inline void fz_init_once(void)
 #endif
 }
 
+/* Every target's libFuzzer initialisation (each target is one binary). */
+int LLVMFuzzerInitialize(int *argc, char ***argv)
+{
+    (void)argc;
+    (void)argv;
+    fz_init_once();
+    return 0;
+}
+
 /* ---- the scheduler ----------------------------------------------------------
  * Interrupts are served between main-loop passes, at the peripheral event
  * that raises them, with the 68000's priority rule. */

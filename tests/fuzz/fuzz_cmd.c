@@ -90,14 +90,6 @@ static void command(uint8_t axis, uint16_t code, uint32_t param)
     check_invariants();
 }
 
-int LLVMFuzzerInitialize(int *argc, char ***argv)
-{
-    (void)argc;
-    (void)argv;
-    fz_init_once();
-    return 0;
-}
-
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     fz_init_once();

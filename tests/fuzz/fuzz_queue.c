@@ -210,14 +210,6 @@ static void poke_header(fz_in_t *in, uint32_t q)
     fz_wr32(q + off, v);
 }
 
-int LLVMFuzzerInitialize(int *argc, char ***argv)
-{
-    (void)argc;
-    (void)argv;
-    fz_init_once();
-    return 0;
-}
-
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     fz_init_once();

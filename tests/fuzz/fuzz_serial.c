@@ -485,14 +485,6 @@ static void final_ver(void)
     FZ_FAIL("the card no longer answers VER over the serial line");
 }
 
-int LLVMFuzzerInitialize(int *argc, char ***argv)
-{
-    (void)argc;
-    (void)argv;
-    fz_init_once();
-    return 0;
-}
-
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     fz_init_once();

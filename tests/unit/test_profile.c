@@ -3,16 +3,6 @@
 #include <stdlib.h>
 #include "profile.h"
 
-static uint64_t seed = 0x9E3779B97F4A7C15ull;
-static uint32_t rnd32(void)
-{
-    seed ^= seed << 13;
-    seed ^= seed >> 7;
-    seed ^= seed << 17;
-    return (uint32_t)seed;
-}
-
-#define Q(x) ((int64_t)(x) * 65536)
 
 /* One move; checks landing, no overshoot, limits; returns the SP count. */
 static long move(int64_t from, int64_t to, int64_t v0, int64_t vmax, int64_t acc, int64_t dec)

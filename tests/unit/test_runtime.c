@@ -2,15 +2,6 @@
 #include "unit_support.h"
 #include "runtime.h"
 
-static uint32_t rnd(void)
-{
-    static uint64_t x = 88172645463325252ull;
-    x ^= x << 13;
-    x ^= x >> 7;
-    x ^= x << 17;
-    return (uint32_t)x;
-}
-
 static const uint32_t edges[] = {0, 1, 2, 3, 0x7FFF, 0x8000, 0xFFFF, 0x10000, 0x7FFFFFFF,
                                  0x80000000u, 0x80000001u, 0xFFFFFFFEu, 0xFFFFFFFFu, 1000, 25000};
 
@@ -36,7 +27,7 @@ static void edges_and_random(void **st)
         for (unsigned j = 0; j < sizeof edges / sizeof edges[0]; j++)
             check_pair(edges[i], edges[j]);
     for (int i = 0; i < 200000; i++) {
-        uint32_t a = rnd(), b = rnd() >> (rnd() & 31);
+        uint32_t a = rnd32(), b = rnd32() >> (rnd32() & 31);
         check_pair(a, b);
     }
 }
@@ -45,8 +36,8 @@ static void shifts_64(void **st)
 {
     (void)st;
     for (int i = 0; i < 20000; i++) {
-        uint64_t a = (uint64_t)rnd() << 32 | rnd();
-        unsigned b = rnd() & 63u;
+        uint64_t a = (uint64_t)rnd32() << 32 | rnd32();
+        unsigned b = rnd32() & 63u;
         assert_true(rt_lshr64(a, b) == a >> b);
         assert_true(rt_shl64(a, b) == a << b);
         assert_true(rt_ashr64((int64_t)a, b) == ((int64_t)a >> b));

@@ -4,16 +4,6 @@
 #include <stdlib.h>
 #include "stepper.h"
 
-static uint64_t seed = 0x2545F4914F6CDD1Dull;
-static uint32_t rnd32(void)
-{
-    seed ^= seed << 13;
-    seed ^= seed >> 7;
-    seed ^= seed << 17;
-    return (uint32_t)seed;
-}
-
-#define Q(x) ((int64_t)(x) * 65536)
 
 static int64_t mag(int64_t v) { return v < 0 ? -v : v; }
 

@@ -14,6 +14,17 @@
 
 extern jmp_buf *hal_native_stop_jmp;
 
+/* Reproducible random inputs (xorshift64), and Q16 for the fixed-point tests. */
+static uint64_t unit_seed = 0x9E3779B97F4A7C15ull;
+static inline uint32_t rnd32(void)
+{
+    unit_seed ^= unit_seed << 13;
+    unit_seed ^= unit_seed >> 7;
+    unit_seed ^= unit_seed << 17;
+    return (uint32_t)unit_seed;
+}
+#define Q(x) ((int64_t)(x) * 65536)
+
 static sim_t card;
 static char events[8192];          /* what the card printed (display ...) */
 static FILE *events_f;
