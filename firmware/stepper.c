@@ -737,16 +737,8 @@ void stp_servo_full(axis_t *x, unsigned n, unsigned phase, int32_t old_i, uint16
         s->carry = 0;
         s->obits = (uint16_t)((s->obits & ~AX_CTRL_DIR) | stp_dir_bit(x, dir));
     }
-    /* the rate register for mag Q16 steps in this tick: mag / 400 (stp_rate_of) */
     uint32_t t = mag + s->carry;
-    if (t < mag || t >= s->lim) {
-        s->carry = 0;
-        s->rate = 0xFFFFu;
-    } else {
-        uint32_t qr = stp_divu16(t, s->clocks);
-        s->carry = qr >> 16;
-        s->rate = (uint16_t)qr;
-    }
+    stp_load_rate(s, t < mag ? 0xFFFFFFFFu : t);  /* a wrapped sum saturates */
 }
 
 /* axis_output, disabled (with something to switch off) or in test mode. */

@@ -129,6 +129,21 @@ void stp_trim(unsigned n);
 void stp_idle_output(unsigned n);             /* disabled or test mode */
 int32_t stp_out_hz(unsigned n);               /* ROUT */
 
+/* The rate register for t = |distance| + carry Q16 steps in this tick:
+ * t / 400 (stp_rate_of), the remainder carried to the next tick; at or
+ * beyond lim the register saturates and the carry is dropped. */
+static inline __attribute__((always_inline)) void stp_load_rate(stp_t *s, uint32_t t)
+{
+    if (t >= s->lim) {
+        s->carry = 0;
+        s->rate = 0xFFFFu;
+    } else {
+        uint32_t qr = stp_divu16(t, s->clocks);
+        s->carry = qr >> 16;
+        s->rate = (uint16_t)qr;
+    }
+}
+
 /* Every tick, modes with a profile (motion_servo_tick, after the setpoint
  * interpolation moved sp_i/sp_f on from old_i/old_f): the step rate for
  * this tick's distance, setpoint and following error.  The common case -
@@ -150,17 +165,8 @@ static inline __attribute__((always_inline)) void stp_servo(axis_t *x, unsigned 
             int32_t sp = pos_add(old_i, old_f >= 0x8000u);
             x->setpoint = sp;
             x->ferr = pos_sub(sp, x->meas);
-            /* the rate register for |d| Q16 steps in this tick: |d| / 400
-             * (stp_rate_of); the carry (< clocks) cannot wrap |d| < 2^31 */
-            uint32_t t = (uint32_t)(d < 0 ? -d : d) + s->carry;
-            if (t >= s->lim) {
-                s->carry = 0;
-                s->rate = 0xFFFFu;
-            } else {
-                uint32_t qr = stp_divu16(t, s->clocks);
-                s->carry = qr >> 16;
-                s->rate = (uint16_t)qr;
-            }
+            /* the carry (< clocks) cannot wrap |d| < 2^31 */
+            stp_load_rate(s, (uint32_t)(d < 0 ? -d : d) + s->carry);
             return;
         }
     }

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field, replace
 import pytest
 
 from conftest import BOOT, sim
-from mac4 import BIT, MODE, code
+from mac4 import MODE, code, obits, ubits
 
 TICK_MS = {"inc": 2.5, "ssi": 2.5, "stp": 8.0}
 EN = 0x0001                                   # AX_CTRL bit 0: /EN driven
@@ -39,17 +39,11 @@ RBS, VER = code("RBS"), code("VER")
 
 
 def ub(*names):
-    v = 0
-    for n in names:
-        v |= 1 << BIT["user"][n]
-    return v
+    """The user status bits alone, as a mask: mode "disable" adds nothing."""
+    return ubits(*names, mode="disable")
 
 
-def ob(*names):
-    v = 0
-    for n in names:
-        v |= 1 << BIT["overall"][n]
-    return v
+ob = obits
 
 
 def signed(v):
