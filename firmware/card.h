@@ -58,7 +58,8 @@ typedef struct {
     int64_t q_pv, q_pa, q_pd, q_ed, q_free;
     int64_t q_hi, q_lo; /* target -/+ max(q_free, q_pv) when <pv> and <pa> fit 32 bits (prof_cruise32) */
     uint8_t q_fast;     /* ... and then prof_cruise32 applies */
-    uint8_t q_fit;      /* <pv>, <pa>, <pd> below 2^30: prof_position_fit */
+    uint8_t q_fit;      /* <pv>, <pa>, <pd> below 2^30: prof_step32 with q_l32 */
+    prof_lim32_t q_l32;
     uint16_t q_gen;
     uint8_t q_turbo;
     /* position controller (servo.c) */

@@ -66,6 +66,8 @@ static void vq_compute(unsigned n)
     x->q_ed = vq(n, PAR(n, ED));
     x->q_free = prof_free_distance(x->q_pv, x->q_pd);
     x->q_fit = x->q_pv < (1l << 30) && x->q_pa < (1l << 30) && x->q_pd < (1l << 30);
+    if (x->q_fit)
+        prof_lim32(&x->q_l32, (int32_t)x->q_pv, (int32_t)x->q_pa, (int32_t)x->q_pd, x->q_free);
     x->q_fast = x->q_pv < (1l << 30) && x->q_pa < (1l << 30) && x->q_free > 0 &&
                 x->q_free < ((int64_t)1 << 60);
     if (x->q_fast) {                             /* the positioning target's cruise limits */
@@ -422,6 +424,30 @@ static void stop_done(unsigned n)
     x->done = 1;
 }
 
+#if MAC4_CARD != MAC4_CARD_STP
+/* A positioning SP with limits below 2^30 (braking, landing) where the cruise
+ * step does not apply; apart from motion_profile_tick, which keeps its
+ * registers for the cruise step. */
+static void __attribute__((noinline)) position_fit_step(axis_t *x, unsigned n)
+{
+    PIN_PTR(x);
+    int64_t before = x->prof.pos, rem = x->target - before;
+    int landed;
+    int32_t d;
+    if (prof_fits32(&x->prof, rem)) {
+        landed = prof_step32(&x->prof, (int32_t)rem, &x->q_l32, &d);
+        rows_of(x, before, d);
+    } else {
+        landed = prof_position_fit(&x->prof, x->target, &x->q_l32);
+        next_segment(x, before);
+    }
+    if (landed) {
+        x->done = 1;
+        pos_end_check(n);
+    }
+}
+#endif
+
 /* The common case first, in a small function: a positioning move far from
  * its target (prof_cruise); everything else in profile_modes(). */
 void motion_profile_tick(unsigned n)
@@ -453,12 +479,7 @@ void motion_profile_tick(unsigned n)
             return;
         }
         if (x->q_fit) {                          /* braking, landing: what profile_modes does */
-            if (prof_position_fit(&x->prof, x->target, (int32_t)x->q_pv, (int32_t)x->q_pa, (int32_t)x->q_pd,
-                                  x->q_free)) {
-                x->done = 1;
-                pos_end_check(n);
-            }
-            next_segment(x, before);
+            position_fit_step(x, n);
             return;
         }
     }
@@ -525,8 +546,7 @@ static void profile_modes(unsigned n)
                 x->done = 1;
 #else
             if (!x->done &&
-                (x->q_fit ? prof_position_fit(p, x->target, (int32_t)x->q_pv, (int32_t)x->q_pa, (int32_t)x->q_pd,
-                                              x->q_free)
+                (x->q_fit ? prof_position_fit(p, x->target, &x->q_l32)
                           : prof_position_free(p, x->target, x->q_pv, x->q_pa, x->q_pd, x->q_free))) {
                 x->done = 1;
             }

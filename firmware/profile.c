@@ -53,72 +53,39 @@ int prof_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t 
  * Less than 2^31 to go (Q16: 32 768 increments), speeds and ramps below
  * 2^30: the braking phase of every move and whole short moves need no 64-bit
  * arithmetic, and the braking test is two or three MULU.W (mulu31) instead
- * of two 32 x 32 products.  The results are those of the 64-bit step
- * (prof_position_ref, tests/unit/test_profile.c compares them). */
+ * of two 32 x 32 products (prof_step32 in profile.h).  The results are those
+ * of the 64-bit step (prof_position_ref, tests/unit/test_profile.c compares
+ * them). */
 #define R30 0x40000000
 
-static inline __attribute__((always_inline)) int position32(prof_t *p, int64_t target, int32_t rem, int32_t vel,
-                                                             int32_t vmax, int32_t acc, int32_t dec, int64_t free)
+void prof_lim32(prof_lim32_t *l, int32_t vmax, int32_t acc, int32_t dec, int64_t free)
 {
-    if (rem == 0 && vel == 0)
-        return 1;
-    int neg = rem < 0;
-    if (neg)
-        rem = -rem;
-    int32_t v = neg ? -vel : vel;                /* speed towards the target */
-    if (v < 0) {                                 /* moving away: turn round first */
-        v += dec;
-        if (v > 0)
-            v = 0;
-    } else {
-        int quick = free > 0 && rem > free && v <= vmax;
-        int32_t up = v;
-        if (v < vmax) {
-            up = v + acc;
-            if (up > vmax)
-                up = vmax;
-        } else if (v > vmax) {
-            up = v - dec;
-            if (up < vmax)
-                up = vmax;
-        }
-        if (up > 0 && (quick || !prof_must_brake32((uint32_t)up, (uint32_t)dec, (uint32_t)rem))) {
-            v = up;
-        } else if (v > 0 && v <= vmax && (quick || !prof_must_brake32((uint32_t)v, (uint32_t)dec, (uint32_t)rem))) {
-            /* cruise */
-        } else {
-            v -= dec;
-            if (v < dec)
-                v = dec;
-        }
-        if (v > rem)
-            v = rem;
-        if (v <= 0)
-            v = rem < dec ? rem : dec;
-    }
-    p->vel = neg ? -v : v;
-    p->pos += p->vel;
-    if (p->pos == target) {
-        p->vel = 0;
-        return 1;
-    }
-    return 0;
+    l->vmax = vmax;
+    l->acc = acc;
+    l->dec = dec;
+    l->d8 = prof_d8((uint32_t)dec);
+    l->free32 = free > 0 && free < INT32_MAX ? (int32_t)free : INT32_MAX;
+    l->free = free;
 }
 
-int prof_position_fit(prof_t *p, int64_t target, int32_t vmax, int32_t acc, int32_t dec, int64_t free)
+int prof_position_fit(prof_t *p, int64_t target, const prof_lim32_t *l)
 {
     int64_t rem = target - p->pos;
-    if (rem > -(int64_t)0x7FFFFFFF && rem < (int64_t)0x7FFFFFFF && p->vel > -R30 && p->vel < R30)
-        return position32(p, target, (int32_t)rem, (int32_t)p->vel, vmax, acc, dec, free);
-    return prof_position_ref(p, target, vmax, acc, dec, free);
+    int32_t step;
+    if (prof_fits32(p, rem))
+        return prof_step32(p, (int32_t)rem, l, &step);
+    return prof_position_ref(p, target, l->vmax, l->acc, l->dec, l->free);
 }
 
 int prof_position_free(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t dec, int64_t free)
 {
     if (prof_cruise(p, target, vmax, acc, free))
         return 0;
-    if (vmax < R30 && acc < R30 && dec < R30)
-        return prof_position_fit(p, target, (int32_t)vmax, (int32_t)acc, (int32_t)dec, free);
+    if (vmax < R30 && acc < R30 && dec < R30) {
+        prof_lim32_t l;
+        prof_lim32(&l, (int32_t)vmax, (int32_t)acc, (int32_t)dec, free);
+        return prof_position_fit(p, target, &l);
+    }
     return prof_position_ref(p, target, vmax, acc, dec, free);
 }
 

@@ -23,9 +23,21 @@ int prof_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t 
  * needs braking yet (prof_free_distance): the braking test is skipped
  * there, with the same result. */
 int prof_position_free(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t dec, int64_t free);
-/* The same for vmax, acc and dec below 2^30 (Q16 per SP), told so: in 32
- * bits while the rest to go is below 2^31 (the braking phase, short moves). */
-int prof_position_fit(prof_t *p, int64_t target, int32_t vmax, int32_t acc, int32_t dec, int64_t free);
+/* The limits of a move for the 32-bit step, computed once per change of
+ * <pv>, <pa>, <pd> (prof_lim32): vmax, acc, dec below 2^30 (Q16 per SP);
+ * d8 the braking test's dec >> 8 (at least 1); free32 the rest beyond which
+ * no braking test is needed, or INT32_MAX (none within 32 bits); free the
+ * same for the 64-bit fallback (0: unknown). */
+typedef struct {
+    int32_t vmax, acc, dec;
+    uint32_t d8;
+    int32_t free32;
+    int64_t free;
+} prof_lim32_t;
+void prof_lim32(prof_lim32_t *l, int32_t vmax, int32_t acc, int32_t dec, int64_t free);
+/* The same step for limits below 2^30, told so: in 32 bits (prof_step32)
+ * while the rest to go is below 2^31 (the braking phase, short moves). */
+int prof_position_fit(prof_t *p, int64_t target, const prof_lim32_t *l);
 /* The same step in 64 bits throughout: the reference the 32-bit path of
  * prof_position_free() is tested against, and its fallback. */
 int prof_position_ref(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t dec, int64_t free);
@@ -91,18 +103,119 @@ int prof_ramp(prof_t *p, int64_t vt, int64_t acc, int64_t dec);
 /* Would a stop from speed v (>= 0) with ramp dec cover at least rem?
  * Exposed for the tests. */
 int prof_must_brake(int64_t v, int64_t dec, int64_t rem);
-/* The same for 0 <= v, dec < 2^30 and rem < 2^32: (v8 (v8 + d8)) >> 1 >=
- * d8 r8 is v8 (v8 + d8) >= d8 (2 r8), and nothing saturates in this range;
- * two or three MULU.W (mulu31) instead of two 32 x 32 products. */
-static inline __attribute__((always_inline)) int prof_must_brake32(uint32_t v, uint32_t dec, uint32_t rem)
+/* prof_must_brake for 0 <= v < 2^30, rem < 2^32 and d8 = max(dec >> 8, 1),
+ * dec < 2^30: (v8 (v8 + d8)) >> 1 >= d8 r8 is v8 (v8 + d8) >= d8 (2 r8), and
+ * nothing saturates in this range; two or three MULU.W (mulu31) instead of
+ * two 32 x 32 products.  It grows with v: where it holds for v it holds for
+ * every faster speed. */
+static inline __attribute__((always_inline)) int prof_brake_d8(uint32_t v, uint32_t d8, uint32_t rem)
 {
-    uint32_t v8 = v >> 8, d8 = dec >> 8, r8 = rem >> 8;
-    if (d8 == 0)
-        d8 = 1;
+    uint32_t v8 = v >> 8, r8 = rem >> 8, vd = v8 + d8;
+    if (vd < 0x10000u && r8 < 0x800000u) {
+        /* the usual range (speeds and ramps below 256 per SP, rests below
+         * 2^15): v8 (v8 + d8) is one MULU.W, d8 (2 r8) two, below 2^40 */
+        uint32_t l = mulu16((uint16_t)v8, (uint16_t)vd), r2 = r8 << 1;
+        uint32_t rl = mulu16((uint16_t)d8, (uint16_t)r2);
+        if (r2 < 0x10000u)
+            return l >= rl;
+        uint32_t rh = mulu16((uint16_t)d8, (uint16_t)(r2 >> 16));
+        if (rh >> 16)
+            return 0;                            /* d8 (2 r8) >= 2^32 > l */
+        uint32_t r = (rh << 16) + rl;
+        return r >= rl && l >= r;                /* (a carry: >= 2^32) */
+    }
     uint32_t h1, l1, h2, l2;
     mulu31(v8, v8 + d8, &h1, &l1);
     mulu31(d8, r8 << 1, &h2, &l2);
     return h1 > h2 || (h1 == h2 && l1 >= l2);
+}
+static inline __attribute__((always_inline)) uint32_t prof_d8(uint32_t dec)
+{
+    return dec >> 8 ? dec >> 8 : 1u;
+}
+static inline __attribute__((always_inline)) int prof_must_brake32(uint32_t v, uint32_t dec, uint32_t rem)
+{
+    return prof_brake_d8(v, prof_d8(dec), rem);
+}
+
+/* Does prof_step32 apply: rem = target - pos within +-(2^31 - 1), the
+ * velocity within +-2^30? */
+static inline __attribute__((always_inline)) int prof_fits32(const prof_t *p, int64_t rem)
+{
+    /* by the words: a 64-bit comparison is a dozen 68000 instructions */
+    int32_t rh = (int32_t)(rem >> 32), vh = (int32_t)(p->vel >> 32);
+    uint32_t rl = (uint32_t)rem, vl = (uint32_t)p->vel;
+    if (rh == 0 ? rl >= 0x7FFFFFFFu : rh != -1 || rl <= 0x80000001u)
+        return 0;
+    return vh == 0 ? vl < 0x40000000u : vh == -1 && vl > 0xC0000000u;
+}
+
+/* One SP of prof_position_ref() where prof_fits32(p, rem), rem = target -
+ * pos, in 32 bits, with the limits of prof_lim32: the same result (the unit
+ * test compares them).  *step is the SP's motion (below 2^30 either way);
+ * returns 1 on landing.  One braking test per SP while accelerating or
+ * braking: where the speed of the moment must brake, a faster one must too.
+ * Inline: the profile generator's braking and landing step. */
+static inline __attribute__((always_inline)) int prof_step32(prof_t *p, int32_t rem, const prof_lim32_t *l,
+                                                             int32_t *step)
+{
+    int32_t vel = (int32_t)p->vel;
+    if (rem == 0 && vel == 0) {
+        *step = 0;
+        return 1;
+    }
+    int neg = rem < 0;
+    if (neg)
+        rem = -rem;
+    int32_t v = neg ? -vel : vel;                /* speed towards the target */
+    int32_t dec = l->dec;
+    if (v < 0) {                                 /* moving away: turn round first */
+        v += dec;
+        if (v > 0)
+            v = 0;
+    } else {
+        int32_t vmax = l->vmax, up = v;
+        int quick = rem > l->free32 && v <= vmax;   /* no braking test needed */
+        uint32_t d8 = l->d8;
+        if (v < vmax) {
+            up = v + l->acc;
+            if (up > vmax)
+                up = vmax;
+        } else if (v > vmax) {                   /* <pv> lowered on the fly */
+            up = v - dec;
+            if (up < vmax)
+                up = vmax;
+        }
+        /* the fastest of accelerate / hold / brake from which a stop with
+         * <dec> still ends at the target */
+        int brake;
+        if (quick)
+            brake = up <= 0;
+        else if (up > v && v > 0)                /* accelerating: test v first */
+            brake = prof_brake_d8((uint32_t)v, d8, (uint32_t)rem) ? 1
+                    : (prof_brake_d8((uint32_t)up, d8, (uint32_t)rem) ? (up = v, 0) : 0);
+        else if (up > 0 && !prof_brake_d8((uint32_t)up, d8, (uint32_t)rem))
+            brake = 0;
+        else
+            brake = 1;                           /* (v: the same test, or v > vmax, or v = 0) */
+        if (brake) {
+            v -= dec;
+            if (v < dec)
+                v = dec;                         /* creep: never stop short */
+        } else {
+            v = up;
+        }
+        if (v > rem)
+            v = rem;                             /* land exactly */
+        if (v <= 0)
+            v = rem < dec ? rem : dec;
+    }
+    int landed = v == rem;
+    int32_t s = neg ? -v : v;
+    *step = s;
+    p->pos += s;
+    p->vel = landed ? 0 : s;
+    return landed;
 }
 uint64_t prof_umul32(uint32_t a, uint32_t b);
 

@@ -14,6 +14,7 @@
  *   perf load              CPU load over the window (needs `perf track on`)
  *   perf latency           host enqueue -> response in the response queue
  *   perf latency-log on|off  print every latency as it is measured (perf-lat)
+ *   perf probe-log on|off  print every probed call as it ends (perf-call)
  *   perf host-load on|off  the host keeps one command in flight, sending the
  *                          next at its first poll after the previous answer
  *   perf quiet on|off      do not print card events (resp, rx, display ...)
@@ -129,6 +130,7 @@ static uint32_t cmdq_seen = 0xFFFFFFFFu, rspq_seen = 0xFFFFFFFFu;
 static stat_t lat_st;
 static uint64_t lat_unmatched;
 static int lat_log;
+static int probe_log;               /* perf-call per probed call */
 static cyc_t lat_window;             /* commands enqueued from here on count */
 static uint64_t resets_seen;
 
@@ -179,6 +181,8 @@ static cyc_t probe_end(probe_t *p, cyc_t now)
     p->active = 0;
     cyc_t d = now - p->start - p->nested;
     stat_add(&p->st, d, p->start);
+    if (probe_log && p != &pass)
+        fprintf(out, "perf-call %s at_ms=%.3f cycles=%llu\n", p->name, ms_of(p->start), (unsigned long long)d);
     /* the period the call ended in: a call that begins just before a tick
      * sets the flag it acts on may well do its work for the new period */
     long long w = window_of_now();
@@ -688,6 +692,10 @@ static int cmd_perf(script_t *sc, sim_t *s, char **tok, int n)
     }
     if (!strcmp(c, "latency-log") && n == 3) {
         lat_log = !strcmp(tok[2], "on");
+        return 0;
+    }
+    if (!strcmp(c, "probe-log") && n == 3) {
+        probe_log = !strcmp(tok[2], "on");
         return 0;
     }
     if (!strcmp(c, "host-load") && n == 3) {

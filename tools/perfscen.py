@@ -105,10 +105,11 @@ def moving(card, ms=1000, host_load=True):
 
 def whole_moves(card, ms=1400):
     """Four axes through whole moves inside the window: accelerate, cruise,
-    brake and land (INC/SSI 6000-8000 increments at 100 per SP), so that the
-    profile generator's worst SP - all four braking - is in it."""
+    brake and land (INC/SSI 8000 increments at 100 per SP, two each way), all
+    four in step, so that the profile generator's worst SP - four axes
+    braking or landing at once - is in it."""
     base = SSI_AT if card == "ssi" else 0
-    tg = [base + d for d in (8000, -8000, 6000, -6000)]
+    tg = [base + d for d in (8000, -8000, 8000, -8000)]
     lines = setup_lines(card) + enable_lines(card) + move_lines(card, tg)
     lines += window_lines(ms, False, lead_ms=5)
     return "\n".join(lines) + "\n"
