@@ -118,9 +118,13 @@ extern uint16_t card_profile_late;          /* SP boundaries without a prepared 
  * work is card_supervise_tick(). */
 extern uint32_t card_supervised;            /* card_ticks at the last supervision */
 void card_supervise_tick(void);
+static inline __attribute__((always_inline)) int card_supervise_due(void)
+{
+    return *(volatile uint32_t *)&card_ticks != card_supervised;
+}
 static inline __attribute__((always_inline)) void card_supervise(void)
 {
-    if (*(volatile uint32_t *)&card_ticks != card_supervised)
+    if (card_supervise_due())
         card_supervise_tick();
 }
 extern uint16_t card_supervise_late;        /* ticks supervised late (the main loop was held up) */

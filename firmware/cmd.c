@@ -563,10 +563,21 @@ static inline __attribute__((always_inline)) void respond(const mac4_msg_t *out)
 static inline __attribute__((always_inline)) void execute_and_respond(const mac4_msg_t *in)
 {
     mac4_msg_t out;
-    unsigned prev = hal_irq_save();   /* the tick sees a command whole or not at all */
-    card_supervise();   /* a command always follows the supervision of the ticks before it */
+    /* A command always follows the supervision of the ticks before it, and
+     * the tick sees it whole or not at all: masked, once no tick is left to
+     * supervise - the supervision itself runs unmasked (it masks per axis),
+     * so the mask holds off the next tick for the command alone. */
+    unsigned prev = hal_irq_save();
+    while (card_supervise_due()) {
+        hal_irq_restore(prev);
+        card_supervise_tick();
+        prev = hal_irq_save();
+    }
     cmd_execute(in, &out);   /* (perf track counts a pass with a cmd_execute as a command pass) */
     hal_irq_restore(prev);
+    /* what only the main loop reads, after the mask: the profile
+     * generator's velocities of a move the command started (motion.c) */
+    motion_after_command();
     respond(&out);
 }
 

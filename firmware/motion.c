@@ -3,6 +3,8 @@
  * 4.8 and 6.3, between position measurement and the output stage.
  *
  *   motion_start()        at E (main loop, interrupts masked): set a mode up
+ *   motion_after_command() after a command, unmasked: the profile generator's
+ *                         velocities of what it changed (vq_compute)
  *   motion_profile_tick() once per SP, in the main loop: the profile generator
  *                         prepares the NEXT SP's segment (nx_*); the tick
  *                         takes it over at the SP boundary (motion_segment)
@@ -229,6 +231,8 @@ int motion_segment(unsigned n)
 }
 #endif
 
+uint8_t motion_vq_due;      /* axes whose velocities motion_after_command computes */
+
 void motion_start(unsigned n, uint8_t mode, uint8_t from)
 {
     axis_t *x = axis_at[n];
@@ -261,9 +265,19 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from)
 #if MAC4_CARD == MAC4_CARD_STP
     stp_motion_start(n, mode, vq(n, PAR(n, SSF)));   /* creep phase, <lv>, TURBO (stepper.c) */
 #endif
-    /* the velocities and the cruise limits of the new mode and target, now:
-     * in the command, not in the profile generator's next step */
-    vq_compute(n);
+    /* the velocities and the cruise limits of the new mode and target: in
+     * the command, not in the profile generator's next step, but after the
+     * mask (motion_after_command); until then they read as stale */
+    x->q_gen = (uint16_t)~par_gen[n];
+    motion_vq_due |= (uint8_t)(1u << n);
+}
+
+void motion_after_command_do(void)
+{
+    for (unsigned n = 0; n < MAC4_NAXES; n++)
+        if (motion_vq_due & (1u << n))
+            vq_refresh(n);
+    motion_vq_due = 0;
 }
 
 void motion_emergency(unsigned n, uint8_t then)

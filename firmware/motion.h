@@ -5,6 +5,15 @@
 #include "card.h"
 
 void motion_start(unsigned n, uint8_t mode, uint8_t from);  /* at E, interrupts masked */
+/* After each command, unmasked: the velocities of the moves it started
+ * (vq_compute), which only the main loop reads. */
+extern uint8_t motion_vq_due;
+void motion_after_command_do(void);
+static inline void motion_after_command(void)
+{
+    if (motion_vq_due)
+        motion_after_command_do();
+}
 void motion_hold(unsigned n);                 /* setpoint := actual position, at rest */
 void motion_emergency(unsigned n, uint8_t then);  /* ramp <ed> from the next tick on, then STOP_* */
 void motion_brake(unsigned n);                /* ramp <pd> from the next tick on (stop bits) */

@@ -31,6 +31,18 @@ static inline int32_t muls16(int16_t a, int16_t b)
 #endif
 }
 
+/* DIVU.W: n / d in the low word, n % d in the high word, for d > 0 and a
+ * quotient below 2^16 (the 68000 sets V and leaves n otherwise). */
+static inline uint32_t divu16(uint32_t n, uint16_t d)
+{
+#if defined(HAL_TARGET)
+    __asm__("divu.w %1, %0" : "+d"(n) : "dmi"(d) : "cc");
+    return n;
+#else
+    return (n % d) << 16 | (n / d);
+#endif
+}
+
 /* a * b, for a, b < 2^31, as two 32-bit words from MULU.W: one when both
  * factors fit 16 bits, two when a does. */
 static inline __attribute__((always_inline)) void mulu31(uint32_t a, uint32_t b, uint32_t *hi, uint32_t *lo)

@@ -24,7 +24,12 @@
  *   perf axis-sync on      the axis board on logical time, the timer held while
  *                          the card has host input (sim.h axis_sync; the
  *                          differential test)
- *   perf report            irq, net, probes, load and latency together
+ *   perf mask              the main loop's masked sections: from an instruction
+ *                          that runs with the interrupt mask at 5 or more (the
+ *                          axis board's level; the firmware masks to 7) to the
+ *                          first one below, the longest a level-5 or level-6
+ *                          request can wait (needs `perf track on` or a probe)
+ *   perf report            irq, net, probes, load, masked sections and latency together
  *   perf table             the cycle table for people, with the budgets used
  *   run-ticks N [off-sp]   run until N more timer ticks have expired (stops at
  *                          the expiry, before the CPU sees it); off-sp: and on,
@@ -118,6 +123,12 @@ static uint32_t cmd_entry;
 static int pass_cmd;
 static cyc_t pass_probe, cmd_probe;  /* probe cycles in this pass, in all command passes */
 static stat_t pass_cmd_st, pass_idle_st;
+
+/* masked sections at main-loop level (perf mask) */
+static int mask_on;
+static cyc_t mask_start;
+static uint32_t mask_pc, mask_worst_pc;     /* where a section began, the longest one */
+static stat_t mask_st;
 
 /* interrupt occurrences minus the probes that ran inside them */
 static stat_t net[SRC_COUNT];
@@ -218,6 +229,19 @@ static void instr_hook(unsigned pc)
         } else if (pc == p->entry) {
             probe_start(s, p, now);
         }
+    }
+    /* a masked section: main level, mask >= the axis board's level */
+    int masked = s->nactive == 0 && ((m68k_get_reg(NULL, M68K_REG_SR) >> 8) & 7u) >= IRQ_LEVEL_AXIS;
+    if (masked != mask_on) {
+        if (masked) {
+            mask_start = now;
+            mask_pc = pc;
+        } else {
+            if (now - mask_start > mask_st.max || !mask_st.count)
+                mask_worst_pc = mask_pc;
+            stat_add(&mask_st, now - mask_start, mask_start);
+        }
+        mask_on = masked;
     }
     if (track) {
         if (pass.active) {
@@ -422,6 +446,8 @@ static void window_reset(sim_t *s)
         probes[i].win = window_of_now();
     }
     stat_clear(&pass.st);
+    stat_clear(&mask_st);
+    mask_on = 0;
     stat_clear(&pass_cmd_st);
     stat_clear(&pass_idle_st);
     cmd_probe = 0;
@@ -470,10 +496,14 @@ static void print_irq(sim_t *s)
             continue;
         }
         fprintf(out, "perf-irq %s count=%llu min=%llu mean=%llu max=%llu xmin=%llu xmax=%llu xsum=%llu "
-                "worst_at_ms=%.3f\n", src_key[i], (unsigned long long)st->count, (unsigned long long)st->min,
+                "worst_at_ms=%.3f", src_key[i], (unsigned long long)st->count, (unsigned long long)st->min,
                 (unsigned long long)(st->sum / st->count), (unsigned long long)st->max,
                 (unsigned long long)st->xmin, (unsigned long long)st->xmax, (unsigned long long)st->xsum,
                 ms_of(st->worst_at));
+        if (st->lat_count)
+            fprintf(out, " lat_max=%llu lat_mean=%llu lat_worst_at_ms=%.3f", (unsigned long long)st->lat_max,
+                    (unsigned long long)(st->lat_sum / st->lat_count), ms_of(st->lat_worst_at));
+        fputc('\n', out);
     }
 }
 
@@ -542,6 +572,13 @@ static void print_probes(void)
     }
 }
 
+static void print_mask(void)
+{
+    stat_print("perf-mask", "main", &mask_st);
+    if (mask_st.count)
+        fprintf(out, "perf-mask-worst pc=0x%06X (the first instruction with the mask raised)\n", (unsigned)mask_worst_pc);
+}
+
 static void print_net(void)
 {
     for (int i = 0; i < SRC_COUNT; i++)
@@ -587,6 +624,17 @@ static void print_table(sim_t *s)
                 w ? 100.0 * (double)wst.sum / (double)w : 0.0, (unsigned long long)budget,
                 100.0 * (double)wst.max / (double)budget);
     }
+    const irqstat_t *tq = &s->irq[SRC_TIMER];
+    if (tq->lat_count)
+        fprintf(out, "  %-36s %7llu %7s %7llu %7llu %6s %8llu %4.0f%%\n", "timer latency, request to acknowledge",
+                (unsigned long long)tq->lat_count, "", (unsigned long long)(tq->lat_sum / tq->lat_count),
+                (unsigned long long)tq->lat_max, "", (unsigned long long)(period / 10),
+                100.0 * (double)tq->lat_max / (double)(period / 10));
+    if (mask_st.count)
+        fprintf(out, "  %-36s %7llu %7llu %7llu %7llu %6s %8llu %4.0f%%\n", "masked section (main loop), bound",
+                (unsigned long long)mask_st.count, (unsigned long long)mask_st.min,
+                (unsigned long long)(mask_st.sum / mask_st.count), (unsigned long long)mask_st.max, "",
+                (unsigned long long)(period / 10), 100.0 * (double)mask_st.max / (double)(period / 10));
     if (track && w) {
         cyc_t idle_min = pass_idle_st.count ? pass_idle_st.min : 0;
         uint64_t npass = pass_cmd_st.count + pass_idle_st.count;
@@ -658,7 +706,12 @@ static int cmd_perf(script_t *sc, sim_t *s, char **tok, int n)
         print_net();
         print_probes();
         print_load(s);
+        print_mask();
         print_latency();
+        return 0;
+    }
+    if (!strcmp(c, "mask") && n == 2) {
+        print_mask();
         return 0;
     }
     if (!strcmp(c, "track") && (n == 3 || n == 5)) {

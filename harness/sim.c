@@ -75,6 +75,16 @@ void irq_enter(sim_t *s, int level)
     }
     s->active[s->nactive].src = sim_irq_source(level);
     s->active[s->nactive].start = sim_now(s);
+    if (s->active[s->nactive].src == SRC_TIMER && s->tmr.irq_at <= sim_now(s)) {
+        irqstat_t *st = &s->irq[SRC_TIMER];
+        cyc_t lat = sim_now(s) - s->tmr.irq_at;
+        st->lat_count++;
+        st->lat_sum += lat;
+        if (lat > st->lat_max || st->lat_count == 1) {
+            st->lat_max = lat;
+            st->lat_worst_at = s->tmr.irq_at;
+        }
+    }
     s->active[s->nactive].nested = 0;
     s->nactive++;
 }

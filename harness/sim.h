@@ -29,6 +29,11 @@ typedef struct {
     cyc_t min, max, sum;           /* acknowledge to end of RTE, nested ISRs included */
     cyc_t xmin, xmax, xsum;        /* the same without the time of nested ISRs */
     cyc_t worst_at;                /* cycle count when the worst case started */
+    /* latency, request to acknowledge (the timer: its expiry, or the end of
+     * the SSI reads it waits for); the other sources' requests are level
+     * signals without a time of their own */
+    uint64_t lat_count;
+    cyc_t lat_max, lat_sum, lat_worst_at;
 } irqstat_t;
 
 typedef struct {

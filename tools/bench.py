@@ -122,6 +122,7 @@ def main():
     for card in ("inc", "ssi", "stp"):
         res[card] = ps.run(card, ps.moving(card))
     res["idle"] = ps.run("inc", ps.idle("inc"))
+    cmds = {card: ps.run(card, ps.commands(card)) for card in ("inc", "ssi", "stp")}
     res["creep"] = ps.run("stp", ps.creep())
     for card in ("inc", "ssi", "stp"):
         print("-- MAC4-%s, four axes positioning, host sending back to back (moved %s)"
@@ -135,12 +136,20 @@ def main():
     axis = res["creep"]["net"]["axis"]
     tick = ps.worst(res["creep"], "timer") or 0
     if axis.get("count"):
-        need = tick + 4 * axis["max"]
-        creep = "pulse interrupt worst %d cycles; with a tick of %d: %.0f Hz on four axes, %.0f Hz on one" % (
-            axis["max"], tick, ps.CPU_HZ / need, ps.CPU_HZ / (tick + axis["max"]))
+        mask = ps.masked_worst(res["creep"]) or 0
+        need = mask + tick + 4 * axis["max"]
+        creep = ("pulse interrupt worst %d cycles; with a tick of %d and a masked section of %d: %.0f Hz on four "
+                 "axes, %.0f Hz on one (%.0f Hz on four without the masked section)" % (
+                     axis["max"], tick, mask, ps.CPU_HZ / need, ps.CPU_HZ / (mask + tick + axis["max"]),
+                     ps.CPU_HZ / (tick + 4 * axis["max"])))
     else:
         creep = "no pulse-count interrupts seen in the creep scenario (moved %s)" % ps.moved(res["creep"])
     print("-- MAC4-STP creep phase: " + creep)
+    for card in ("inc", "ssi", "stp"):
+        print("-- MAC4-%s, three axes moving, the host sending E with new targets and INIT/DEINIT: longest masked "
+              "section %d cycles (bound of the tick's latency; measured %d), budget %d"
+              % (card.upper(), ps.masked_worst(cmds[card]) or 0, ps.timer_latency_worst(cmds[card]) or 0,
+                 ps.PERIOD[card] // 10))
     print("-- MAC4-INC idle card (axes enabled at rest), host back to back: latency max %.2f ms, mean %.2f ms"
           % (ps.latency_ms(res["idle"]) or 0, res["idle"]["latency"].get("mean_us", 0) / 1000.0))
 
@@ -180,6 +189,8 @@ def main():
         "stp_tick_worst_cycles": ps.worst(res["stp"], "timer"),
         "stp_profile_worst_cycles": ps.profile_per_period(res["stp"]),
         "stp_pulse_irq_worst_cycles": axis.get("max") if axis.get("count") else None,
+        "masked_section_worst_cycles": {c: ps.masked_worst(cmds[c]) for c in cmds},
+        "timer_latency_worst_cycles": {c: ps.timer_latency_worst(cmds[c]) for c in cmds},
         "cpu_load_percent": ps.load_percent(inc),
         "cpu_load_breakdown_percent": {k: inc["load"].get(k) for k in ("isr", "main", "cmd", "profile")},
         "command_latency_ms": ps.latency_ms(inc),

@@ -115,6 +115,25 @@ def whole_moves(card, ms=1400):
     return "\n".join(lines) + "\n"
 
 
+def commands(card, ms=1000):
+    """Three axes positioning while the host reconfigures: every 10 ms a new
+    target on the fly for one of them (WAP, E) and INIT or DEINIT of the
+    fourth - the commands that run longest with interrupts masked, so that
+    the longest masked section (the bound of every interrupt's latency) and
+    the tick's measured latency are in the window."""
+    tg = targets(card)
+    lines = setup_lines(card) + enable_lines(card) + move_lines(card, tg[:3] + [tg[3]])
+    lines += ["send 3 MD", "send 3 E", "send 3 DEINIT", "run 200"] + positions_lines()
+    lines += ["perf track on", "perf quiet on", "perf reset"]
+    for k in range(ms // 10):
+        a = k % 3
+        far = tg[a] + (1 if k % 2 else -1) * (2000 + 100 * k)
+        lines += ["send %d WAP %d" % (a, far), "send %d E" % a, "send 3 %s" % ("INIT" if k % 2 == 0 else "DEINIT"),
+                  "run 10"]
+    lines += ["perf quiet off", "perf report"] + positions_lines()
+    return "\n".join(lines) + "\n"
+
+
 def idle(card, ms=1000):
     """The card booted, axes enabled at standstill; the host sending back to back."""
     lines = setup_lines(card) + enable_lines(card) + window_lines(ms, True)
@@ -143,7 +162,7 @@ def num(v):
 
 
 def parse(text):
-    r = {"irq": {}, "net": {}, "probe": {}, "period": {}, "pass": {}, "load": {}, "latency": {}, "stack": None,
+    r = {"irq": {}, "net": {}, "probe": {}, "period": {}, "pass": {}, "load": {}, "latency": {}, "stack": None, "mask": {},
          "peeks": [], "faults": [], "lines": text.splitlines()}
     for line in r["lines"]:
         parts = line.split()
@@ -163,6 +182,8 @@ def parse(text):
             r["pass"][parts[1]] = kv
         elif tag == "perf-load":
             r["load"] = kv
+        elif tag == "perf-mask":
+            r["mask"] = kv
         elif tag == "perf-latency":
             r["latency"] = kv
         elif tag == "perf-stack":
@@ -197,6 +218,17 @@ def worst(r, src):
     """The worst occurrence of an interrupt source: exclusive of nested
     interrupts and of the probes (the profile generator) inside it."""
     return r["net"].get(src, {}).get("max", 0) if r["net"].get(src, {}).get("count") else None
+
+
+def masked_worst(r):
+    """The longest main-loop section with interrupts masked (perf mask): no
+    interrupt waits longer to be acknowledged (but for level 7)."""
+    return r["mask"].get("max") if r["mask"].get("count") else None
+
+
+def timer_latency_worst(r):
+    """The tick's latency as measured, timer request to acknowledge."""
+    return r["irq"].get("timer", {}).get("lat_max")
 
 
 def profile_per_period(r, probe=PROFILE_PROBE):

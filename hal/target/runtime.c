@@ -25,12 +25,26 @@ uint32_t rt_udivmod32(uint32_t n, uint32_t d, uint32_t *rem)
             *rem = n;
         return 0xFFFFFFFFu;
     }
-    uint32_t q = 0, r = 0;
-    for (int i = 31; i >= 0; i--) {
-        r = (r << 1) | ((n >> i) & 1u);
-        if (r >= d) {
-            r -= d;
-            q |= (uint32_t)1 << i;
+    uint32_t q = 0, r;
+    if (d < 0x10000u) {
+        /* two DIVU.W (about 300 cycles, not 3 400 for a bit loop): the high
+         * word, then the remainder and the low word, each quotient < 2^16 */
+        uint32_t hi = divu16(n >> 16, (uint16_t)d);
+        uint32_t lo = divu16((hi & 0xFFFF0000u) | (n & 0xFFFFu), (uint16_t)d);
+        q = hi << 16 | (lo & 0xFFFFu);
+        r = lo >> 16;
+    } else if (d & 0x80000000u) {
+        q = n >= d;
+        r = q ? n - d : n;
+    } else {
+        /* the quotient is below 2^16: sixteen steps, r < 2 d < 2^32 */
+        r = n >> 16;
+        for (int i = 15; i >= 0; i--) {
+            r = (r << 1) | ((n >> i) & 1u);
+            if (r >= d) {
+                r -= d;
+                q |= (uint32_t)1 << i;
+            }
         }
     }
     if (rem)
