@@ -119,6 +119,19 @@ void axis_init_measurement(unsigned n)
     axes[n].meas_sup = axes[n].meas;
 }
 
+/* The part of axis_prepare that follows mode parameters (<mf>): all that
+ * changes at an E on an initialised axis, since system parameters change
+ * only at INIT, which prepares the rest. */
+void axis_prepare_mode(unsigned n)
+{
+    axis_t *x = &axes[n];
+    x->mf = PAR(n, MF);
+#if MAC4_CARD == MAC4_CARD_STP
+    x->mf += stp_tol(n);                         /* 4.8.1: the tolerance of <ms>/(4 <es>) */
+#endif
+    x->in_eval = 1;                              /* the switches again at the next tick */
+}
+
 void axis_prepare(unsigned n)
 {
     axis_t *x = &axes[n];
@@ -128,10 +141,7 @@ void axis_prepare(unsigned n)
     x->cr = PAR(n, CR);
     x->lp = PAR(n, LP);
     x->ln = PAR(n, LN);
-    x->mf = PAR(n, MF);
-#if MAC4_CARD == MAC4_CARD_STP
-    x->mf += stp_tol(n);                         /* 4.8.1: the tolerance of <ms>/(4 <es>) */
-#endif
+    axis_prepare_mode(n);
     /* switch configuration (4.5): 0 off, 1 low active, 2 high active */
     static const uint16_t bits[4] = {AX_IN_IESP, AX_IN_IESN, AX_IN_RS, AX_IN_DF};
     int32_t cfg[4] = {PAR(n, PS), PAR(n, NS), PAR(n, RS), PAR(n, DF)};
@@ -142,7 +152,6 @@ void axis_prepare(unsigned n)
     x->ctrl = (uint16_t)((x->ctrl & ~AX_CTRL_SSI_SYNC) | sync);
     hal_wr16(AX_REG(n, AX_CTRL), x->ctrl);
 #endif
-    x->in_eval = 1;                              /* the switches again at the next tick */
     x->sw_en = x->sw_inv = 0;
     for (unsigned i = 0; i < 4; i++) {
         if (cfg[i])

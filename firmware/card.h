@@ -137,6 +137,7 @@ int axis_standstill(unsigned n);
 static inline int axis_initialised(unsigned n) { return (axes[n].ustat & UB(INIT)) != 0; }
 void axis_init_measurement(unsigned n);    /* INIT: derive ea/eb/ec, zero relative position */
 void axis_prepare(unsigned n);             /* main loop: refresh the tick's copies */
+void axis_prepare_mode(unsigned n);        /* ... of the mode parameters alone (E, initialised) */
 void axis_set_pos(unsigned n);             /* main loop: pos from meas and <ao>, wrapped */
 
 /* VMEbus interrupts (4.6): vector 0 = off. */

@@ -316,7 +316,10 @@ static int do_execute(unsigned a)
     if (r)
         return r;
     params_activate(a, PK_MODE);
-    axis_prepare(a);
+    if (axis_initialised(a))
+        axis_prepare_mode(a);                     /* the system parameters' part is INIT's */
+    else
+        axis_prepare(a);
     axes[a].next_mode = NO_MODE;
     /* pos_end, jus_end and LED P are cleared only by the next E (5.6) */
     axes[a].ustat &= ~(UB(POS_END) | UB(JUS_END));

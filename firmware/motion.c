@@ -250,7 +250,7 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from)
     x->trt_count = 0;
     /* <trt> in whole sampling periods, rounded up (5.6) */
     uint32_t sp_ms = MAC4_CARD == MAC4_CARD_STP ? 32u : 10u;
-    x->trt_periods = (uint16_t)(((uint32_t)PAR(n, TRT) + sp_ms - 1u) / sp_ms);
+    x->trt_periods = (uint16_t)divu16((uint32_t)PAR(n, TRT) + sp_ms - 1u, (uint16_t)sp_ms);   /* <trt> < 2^16 */
     switch (mode) {
     case M_POSITIONING:
         x->target = target_of(n, PAR(n, AP));

@@ -23,18 +23,30 @@ static unsigned slot(unsigned axis, unsigned p) { return (pdesc[p].flags & PF_CA
 int32_t par(unsigned axis, unsigned p) { return par_a[p][slot(axis, p)]; }
 int32_t par_written(unsigned axis, unsigned p) { return par_w[p][slot(axis, p)]; }
 
-/* The per-axis parameters of each kind, listed once at reset: E and INIT
- * copy only those (a pass over all of pdesc[] costs about 5 000 cycles,
- * with interrupts masked). */
-static uint16_t act_list[2][NPARAMS];      /* byte offsets of par_a[p][0] */
-static uint8_t act_len[2];
+/* The per-axis system parameters, listed once at reset: INIT copies only
+ * those (a pass over all of pdesc[] costs about 5 000 cycles, with
+ * interrupts masked). */
+static uint16_t sys_list[NPARAMS];         /* byte offsets of par_a[p][0] */
+static uint8_t sys_len;
+_Static_assert(NPARAMS < 256, "parameter numbers are bytes in the lists below");
+/* The mode parameters written since the last E, per axis: E copies only
+ * those (the others are in force already: par_w and par_a of a mode
+ * parameter differ only after a write here). */
+static uint8_t mode_dirty[MAC4_NAXES][NPARAMS];
+static uint8_t mode_dirty_n[MAC4_NAXES];
+static uint8_t mode_listed[NPARAMS][MAC4_NAXES];
 
 void params_reset(void)
 {
-    act_len[PK_MODE] = act_len[PK_SYS] = 0;
+    for (unsigned a = 0; a < MAC4_NAXES; a++)
+        mode_dirty_n[a] = 0;
     for (unsigned p = 0; p < NPARAMS; p++)
-        if (!(pdesc[p].flags & PF_CARD) && pdesc[p].kind <= PK_SYS)
-            act_list[pdesc[p].kind][act_len[pdesc[p].kind]++] = (uint16_t)(p * sizeof par_a[0]);
+        for (unsigned a = 0; a < MAC4_NAXES; a++)
+            mode_listed[p][a] = 0;
+    sys_len = 0;
+    for (unsigned p = 0; p < NPARAMS; p++)
+        if (!(pdesc[p].flags & PF_CARD) && pdesc[p].kind == PK_SYS)
+            sys_list[sys_len++] = (uint16_t)(p * sizeof par_a[0]);
     for (unsigned p = 0; p < NPARAMS; p++)
         for (unsigned a = 0; a < MAC4_NAXES; a++)
             par_w[p][a] = par_a[p][a] = pdesc[p].def;
@@ -51,16 +63,29 @@ int params_write(unsigned axis, unsigned p, int32_t v)
     if (pdesc[p].flags & PF_IMM) {
         par_a[p][a] = v;
         changed(axis, p);
+    } else if (pdesc[p].kind == PK_MODE && !(pdesc[p].flags & PF_CARD) && !mode_listed[p][a]) {
+        mode_listed[p][a] = 1;
+        mode_dirty[a][mode_dirty_n[a]++] = (uint8_t)p;
     }
     return 0;
 }
 
 void params_activate(unsigned axis, uint8_t kind)
 {
-    const uint16_t *l = act_list[kind];
+    if (kind == PK_MODE) {
+        for (unsigned i = mode_dirty_n[axis]; i--;) {
+            unsigned p = mode_dirty[axis][i];
+            par_a[p][axis] = par_w[p][axis];
+            mode_listed[p][axis] = 0;
+        }
+        mode_dirty_n[axis] = 0;
+        par_gen[axis]++;
+        return;
+    }
+    const uint16_t *l = sys_list;
     uint8_t *a = (uint8_t *)&par_a[0][axis];
     const uint8_t *w = (const uint8_t *)&par_w[0][axis];
-    for (const uint16_t *e = l + act_len[kind]; l < e;) {
+    for (const uint16_t *e = l + sys_len; l < e;) {
         uint16_t off = *l++;
         *(int32_t *)(void *)(a + off) = *(const int32_t *)(const void *)(w + off);
     }

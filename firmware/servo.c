@@ -33,7 +33,7 @@ void servo_set_gains(servo_gains_t *g, int32_t ga, int32_t ze, int32_t po, int32
     g->kisc = (uint8_t)kisc;
     /* K |e| <= 2^16 LSB  <=>  |e| <= 2^18 / ga (main loop: the division is
      * done here, once per E, never in the tick) */
-    int32_t lim = ga > 0 ? (int32_t)((uint32_t)(1ul << 18) / (uint32_t)ga) : 32767;
+    int32_t lim = ga > 8 ? (int32_t)(uint16_t)divu16(1ul << 18, (uint16_t)ga) : 32767;   /* (DIVU.W: <ga> > 8) */
     g->e_lim = (int16_t)(lim > 32767 ? 32767 : lim < 1 ? 1 : lim);
     g->sw_lim = 0;
     g->full = ze != 0 || po != 0 || ki != 0;

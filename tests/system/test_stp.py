@@ -484,15 +484,18 @@ def test_home_on_the_encoder_index():
     assert resp(r, RCP)[0] == p["pos"] - 1000
 
 
-def test_creep_pulses_behind_long_masked_sections_lose_no_step():
-    """A command masks interrupts while it executes (INIT about 15 000 cycles,
-    1 ms, on the STP): creep pulses at 1 kHz then wait, and one level-5
-    interrupt serves several of them.  Nothing is lost: the count is the
-    axis board's (AX_PULSES), the interrupt only reads it (docs/performance.md)."""
+def test_creep_counted_exactly_while_the_host_reconfigures_the_other_axes():
+    """A 1 kHz creep (the fastest counted by interrupt) while the host INITs
+    and DEINITs the other three axes without a pause: the commands' masked
+    sections (INIT about 12 600 cycles on the STP) and the ticks (about
+    9 000) hold the pulse interrupts off.  The landing is exact either way:
+    the axis board counts the pulses (AX_PULSES) and stops at the end of the
+    count; an interrupt only reads the count, so one that serves several
+    pulses loses none (docs/performance.md)."""
     stc, target = 60, 600
     lines = ["send 0 INIT"] + ENABLE + ["send 0 WPV 2000", "send 0 WPA 500", "send 0 WPD 500", "send 0 WSSF 1000",
-                      "send 0 WSTC %d" % stc, "send 0 WLV 1000", "send 0 WAP %d" % target, "send 0 MP",
-                      "send 0 E"]
+                                        "send 0 WSTC %d" % stc, "send 0 WLV 1000", "send 0 WAP %d" % target,
+                                        "send 0 MP", "send 0 E"]
     for _ in range(300):                  # INIT / DEINIT on the other axes throughout the move
         lines += ["send %d INIT" % a for a in (1, 2, 3)] + ["run 1"]
         lines += ["send %d DEINIT" % a for a in (1, 2, 3)] + ["run 1"]
@@ -500,7 +503,7 @@ def test_creep_pulses_behind_long_masked_sections_lose_no_step():
     r = go(lines)
     axis = [l for l in r.lines if l.startswith("axis (L5)")][0].split()
     served = int(axis[2])
-    assert 0 < served < stc, "every creep pulse had its own interrupt (%d): nothing was late" % served
+    assert stc // 2 < served <= stc + 1, "the creep was not counted by interrupt (%d interrupts)" % served
     p = plants(r)[-1]
     assert p["generated"] == target and p["lost"] == 0
     assert resp(r, RCP)[-1] == target
