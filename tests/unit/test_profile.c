@@ -114,6 +114,31 @@ static void umul32_exact(void **st)
     }
 }
 
+/* The 32-bit braking test (three MULU.W in its usual range, mulu31 beyond)
+ * decides as the 64-bit one, over its whole domain and at the edges of the
+ * usual range; and it grows with the speed, which prof_step32 relies on. */
+static void brake32_is_the_general_test(void **st)
+{
+    (void)st;
+    int yes = 0, no = 0;
+    for (int i = 0; i < 300000; i++) {
+        unsigned sh = rnd32() % 3;
+        uint32_t v = rnd32() >> (2 + 6 * sh), dec = (rnd32() >> (2 + 6 * (rnd32() % 3))) + 1;
+        uint32_t rem = rnd32() >> (rnd32() % 12);
+        if (i % 7 == 0) {                          /* around v8 + d8 = 2^16 and r8 = 2^23 */
+            v = (0xFFFFu - (dec >> 8 & 0xFFFFu) + (rnd32() % 5) - 2) << 8 | (rnd32() & 0xFF);
+            rem = (0x800000u + (rnd32() % 5) - 2) << 8 | (rnd32() & 0xFF);
+            v &= 0x3FFFFFFFu;
+        }
+        int b = prof_must_brake32(v, dec, rem);
+        assert_int_equal(b, prof_must_brake(v, dec, rem));
+        if (b && v < 0x3FFFFF00u)
+            assert_int_equal(prof_must_brake32(v + 256, dec, rem), 1);
+        b ? yes++ : no++;
+    }
+    assert_true(yes > 10000 && no > 10000);
+}
+
 /* Beyond prof_free_distance(vmax, dec) no speed up to vmax must brake,
  * and it is at most about twice the braking distance; prof_position_free
  * with it moves exactly as prof_position. */
@@ -212,6 +237,7 @@ static void position32_is_the_reference(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(brake32_is_the_general_test),
         cmocka_unit_test(free_distance_needs_no_braking),
         cmocka_unit_test(cruise32_is_the_general_step),
         cmocka_unit_test(position32_is_the_reference),

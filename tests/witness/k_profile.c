@@ -23,6 +23,8 @@ W_KERNEL(profile)
         w_u64((uint64_t)rem);
         w_u64(prof_umul32(a, b));
         w_u32((uint32_t)prof_must_brake(v, d, rem));
+        if (v < 0x40000000 && d < 0x40000000 && rem <= 0xFFFFFFFFll)   /* the 32-bit test's domain */
+            w_u32((uint32_t)prof_must_brake32((uint32_t)v, (uint32_t)d, (uint32_t)rem));
         w_end();
     }
     for (uint32_t n = 0; n < 300; n++) {
