@@ -106,16 +106,7 @@ int prof_position_ref(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int6
         /* the fastest of accelerate / hold / brake from which a stop with
          * <dec> still ends at the target: u (u + dec) <= 2 dec rem */
         int quick = free > 0 && rem > free && v <= vmax;   /* no braking test needed */
-        int64_t up = v;
-        if (v < vmax) {
-            up = v + acc;
-            if (up > vmax)
-                up = vmax;
-        } else if (v > vmax) {                   /* <pv> lowered on the fly */
-            up = v - dec;
-            if (up < vmax)
-                up = vmax;
-        }
+        int64_t up = prof_up(v, vmax, acc, dec);
         if (up > 0 && (quick || !prof_must_brake(up, dec, rem))) {
             v = up;
         } else if (v > 0 && v <= vmax && (quick || !prof_must_brake(v, dec, rem))) {

@@ -94,6 +94,18 @@ static inline int32_t prof_cruise32(prof_t *p, int64_t hi, int64_t lo, int32_t v
     }
     return 0;
 }
+/* The speed to try next from v (>= 0) towards the target: v + acc up to
+ * vmax, or down to vmax by dec where <pv> was lowered on the fly (the 64-bit
+ * steps: prof_position_ref, the STP's positioning step; prof_step32 has it
+ * in 32 bits). */
+static inline int64_t prof_up(int64_t v, int64_t vmax, int64_t acc, int64_t dec)
+{
+    if (v < vmax)
+        return v + acc < vmax ? v + acc : vmax;
+    if (v > vmax)
+        return v - dec > vmax ? v - dec : vmax;
+    return v;
+}
 /* The largest rest from which prof_must_brake(v, dec, rest) may still be 1
  * for some 0 <= v <= vmax; beyond it it is 0.  Main loop: it divides. */
 int64_t prof_free_distance(int64_t vmax, int64_t dec);

@@ -215,16 +215,7 @@ int stp_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t d
         if (v > rem)
             v = rem;
     } else {
-        int64_t up = v;
-        if (v < vmax) {
-            up = v + acc;
-            if (up > vmax)
-                up = vmax;
-        } else if (v > vmax) {                   /* <pv> lowered on the fly */
-            up = v - dec;
-            if (up < vmax)
-                up = vmax;
-        }
+        int64_t up = prof_up(v, vmax, acc, dec);
         if (!stp_must_brake(up, dec, rem, ssf)) {
             v = up;
         } else if (v <= vmax && !stp_must_brake(v, dec, rem, ssf)) {
