@@ -346,9 +346,23 @@ static int do_init(unsigned a)
         return ERR_LIMIT;
     if (PAR_W(a, ET) >= 3 && !measure_ea_ok((uint32_t)PAR_W(a, EA), PAR_W(a, EB)))
         return ERR_LIMIT;                         /* external encoder: no usable <ea> for this <eb> */
+#if MAC4_CARD != MAC4_CARD_STP
+    /* INIT needs the axis disabled: the tick drives 0 V there and, with its
+     * measurement of the axis held off until the supervision after INIT
+     * (mk_tick), reads nothing INIT writes - so the bulk of INIT runs with
+     * interrupts enabled (the other axes' ticks are not held off by it);
+     * commands run in the main loop only, at level 0, which the command's
+     * mask is restored to.  (The STP's tick works on a disabled axis' step
+     * output too: masked.) */
+    axes[a].mk_tick = MK_NONE;
+    hal_irq_enable_all();
+#endif
     params_activate(a, PK_SYS);
     params_activate(a, PK_MODE);
     axis_init_measurement(a);
+#if MAC4_CARD != MAC4_CARD_STP
+    (void)hal_irq_save();
+#endif
     axes[a].ustat |= UB(INIT);
     axes[a].next_mode = NO_MODE;
     return 0;
