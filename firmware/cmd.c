@@ -305,7 +305,7 @@ static int mode_change_check(unsigned a, uint8_t target)
     return 0;
 }
 
-static int do_execute(unsigned a)
+static __attribute__((noinline)) int do_execute(unsigned a)
 {
     uint8_t target = axes[a].next_mode;
     if (target == NO_MODE)
@@ -315,22 +315,33 @@ static int do_execute(unsigned a)
     int r = mode_change_check(a, target);
     if (r)
         return r;
+    uint8_t mode = target == M_UE ? M_ENABLE : target;
+    motion_plan_t plan;
+    motion_plan_target(a, mode, &plan);           /* from the position the supervision last saw */
+    /* The activation, <mf> and the gains are read by the main loop only (the
+     * tick reads no mode parameter but <da> in test mode, one word): they
+     * run with interrupts enabled, between the checks and the commit, which
+     * are masked.  Commands run in the main loop only, at level 0. */
+    int init = axis_initialised(a);
+    hal_irq_enable_all();
     params_activate(a, PK_MODE);
-    if (axis_initialised(a))
+    if (init)
         axis_prepare_mode(a);                     /* the system parameters' part is INIT's */
-    else
+    if (mode != M_DISABLE)
+        motion_plan(a, &plan);
+    (void)hal_irq_save();
+    if (!init)
         axis_prepare(a);
     axes[a].next_mode = NO_MODE;
     /* pos_end, jus_end and LED P are cleared only by the next E (5.6) */
     axes[a].ustat &= ~(UB(POS_END) | UB(JUS_END));
     axes[a].sstat &= ~SB(IN_POS);
     uint8_t from = axes[a].mode;
-    uint8_t mode = target == M_UE ? M_ENABLE : target;
     if (mode == M_DISABLE) {
         axis_disable(a);
     } else {
         axis_set_mode(a, mode);
-        motion_start(a, mode, from);
+        motion_start(a, mode, from, &plan);
     }
     return 0;
 }
@@ -539,7 +550,6 @@ void cmd_execute(const mac4_msg_t *in, mac4_msg_t *out)
     if (PAR(0, WD) > 0)
         wd_last_us = now_us();                    /* otherwise WWD sets it (write_param) */
     wd_fired = 0;
-    hal_wr32(DPC_COMMANDS, hal_rd32(DPC_COMMANDS) + 1);
     if (a < MAC4_NAXES) {
         last_valid_axis = (uint8_t)a;
         /* the common case first: a read, no error waiting to be reported */
@@ -592,6 +602,7 @@ static inline __attribute__((always_inline)) void execute_and_respond(const mac4
     }
     cmd_execute(in, &out);   /* (perf track counts a pass with a cmd_execute as a command pass) */
     hal_irq_restore(prev);
+    hal_wr32(DPC_COMMANDS, hal_rd32(DPC_COMMANDS) + 1);   /* (a diagnostic count: after the mask) */
     /* what only the main loop reads, after the mask: the profile
      * generator's velocities of a move the command started (motion.c) */
     motion_after_command();

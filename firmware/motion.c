@@ -233,27 +233,38 @@ int motion_segment(unsigned n)
 
 uint8_t motion_vq_due;      /* axes whose velocities motion_after_command computes */
 
-void motion_start(unsigned n, uint8_t mode, uint8_t from)
+void motion_plan_target(unsigned n, uint8_t mode, motion_plan_t *p)
+{
+    p->target = mode == M_POSITIONING ? target_of(n, PAR_W(n, AP)) : 0;
+}
+
+void motion_plan(unsigned n, motion_plan_t *p)
+{
+    servo_set_gains(&p->gains, PAR(n, GA), PAR(n, ZE), PAR(n, PO), PAR(n, KI), PAR(n, KISC));
+#if MAC4_CARD != MAC4_CARD_STP
+    servo_set_limit(&p->gains, PAR(n, SW));      /* <sw>, torque (force) limitation */
+#endif
+    /* <trt> in whole sampling periods, rounded up (5.6) */
+    uint32_t sp_ms = MAC4_CARD == MAC4_CARD_STP ? 32u : 10u;
+    p->trt_periods = (uint16_t)divu16((uint32_t)PAR(n, TRT) + sp_ms - 1u, (uint16_t)sp_ms);   /* <trt> < 2^16 */
+}
+
+void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p)
 {
     axis_t *x = axis_at[n];
     if (from == M_DISABLE || from == M_TEST) {
         motion_hold(n);                          /* no jump when the drive comes on */
         servo_reset(&x->servo);
     }
-    servo_set_gains(&x->gains, PAR(n, GA), PAR(n, ZE), PAR(n, PO), PAR(n, KI), PAR(n, KISC));
-#if MAC4_CARD != MAC4_CARD_STP
-    servo_set_limit(&x->gains, PAR(n, SW));      /* <sw>, torque (force) limitation */
-#endif
+    x->gains = p->gains;
     x->done = 0;
     x->phase = 0;
     x->stop_then = STOP_NONE;
     x->trt_count = 0;
-    /* <trt> in whole sampling periods, rounded up (5.6) */
-    uint32_t sp_ms = MAC4_CARD == MAC4_CARD_STP ? 32u : 10u;
-    x->trt_periods = (uint16_t)divu16((uint32_t)PAR(n, TRT) + sp_ms - 1u, (uint16_t)sp_ms);   /* <trt> < 2^16 */
+    x->trt_periods = p->trt_periods;
     switch (mode) {
     case M_POSITIONING:
-        x->target = target_of(n, PAR(n, AP));
+        x->target = p->target;
         break;
     case M_SEARCH_IDX_C:
     case M_SEARCH_IDX:

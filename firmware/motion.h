@@ -4,7 +4,18 @@
 #include <stdint.h>
 #include "card.h"
 
-void motion_start(unsigned n, uint8_t mode, uint8_t from);  /* at E, interrupts masked */
+/* What an E sets up from its parameters, computed before its masked
+ * commit (motion_start): the target from the position of the moment, with
+ * interrupts masked (motion_plan_target, from the written <ap>); the gains
+ * and <trt> from the activated parameters, unmasked (motion_plan). */
+typedef struct {
+    servo_gains_t gains;
+    uint16_t trt_periods;
+    int64_t target;
+} motion_plan_t;
+void motion_plan_target(unsigned n, uint8_t mode, motion_plan_t *p);
+void motion_plan(unsigned n, motion_plan_t *p);
+void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p);  /* at E, interrupts masked */
 /* After each command, unmasked: the velocities of the moves it started
  * (vq_compute), which only the main loop reads. */
 extern uint8_t motion_vq_due;

@@ -10,15 +10,6 @@ int32_t par_w[NPARAMS][MAC4_NAXES];
 int32_t par_a[NPARAMS][MAC4_NAXES];
 uint16_t par_gen[MAC4_NAXES];
 
-static void changed(unsigned axis, unsigned p)
-{
-    if (pdesc[p].flags & PF_CARD)
-        for (unsigned a = 0; a < MAC4_NAXES; a++)
-            par_gen[a]++;
-    else
-        par_gen[axis]++;
-}
-
 static unsigned slot(unsigned axis, unsigned p) { return (pdesc[p].flags & PF_CARD) ? 0 : axis; }
 int32_t par(unsigned axis, unsigned p) { return par_a[p][slot(axis, p)]; }
 int32_t par_written(unsigned axis, unsigned p) { return par_w[p][slot(axis, p)]; }
@@ -56,14 +47,15 @@ void params_reset(void)
 
 int params_write(unsigned axis, unsigned p, int32_t v)
 {
-    if (v < pdesc[p].min || v > pdesc[p].max)
+    const pdesc_t *d = &pdesc[p];
+    if (v < d->min || v > d->max)
         return ERR_LIMIT;
-    unsigned a = slot(axis, p);
+    uint8_t flags = d->flags;
+    unsigned a = (flags & PF_CARD) ? 0 : axis;
     par_w[p][a] = v;
-    if (pdesc[p].flags & PF_IMM) {
-        par_a[p][a] = v;
-        changed(axis, p);
-    } else if (pdesc[p].kind == PK_MODE && !(pdesc[p].flags & PF_CARD) && !mode_listed[p][a]) {
+    if (flags & PF_IMM) {
+        par_a[p][a] = v;                          /* read where used, never cached: par_gen stays */
+    } else if (d->kind == PK_MODE && !(flags & PF_CARD) && !mode_listed[p][a]) {
         mode_listed[p][a] = 1;
         mode_dirty[a][mode_dirty_n[a]++] = (uint8_t)p;
     }

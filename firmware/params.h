@@ -37,8 +37,11 @@ extern const pdesc_t pdesc[NPARAMS];
 /* Parameter-major, so that axis n of parameter p is p*16 + n*4 bytes in. */
 extern int32_t par_w[NPARAMS][MAC4_NAXES];
 extern int32_t par_a[NPARAMS][MAC4_NAXES];
-/* Counts the changes of par_a, so that values derived from it can be cached
- * (the profile generator's Q16 velocities, motion.c), per axis. */
+/* Counts the activations of par_a (E, INIT), so that values derived from
+ * it can be cached (the profile generator's Q16 velocities, motion.c), per
+ * axis.  Immediate parameters (PF_IMM: <vt>, <at>, <da>, <wd>, the
+ * vectors, <zp>) are read where they are used and never cached, so their
+ * writes leave it. */
 extern uint16_t par_gen[MAC4_NAXES];
 
 /* The value in force / as written, for a parameter named at compile time;

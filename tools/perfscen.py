@@ -115,12 +115,33 @@ def whole_moves(card, ms=1400):
     return "\n".join(lines) + "\n"
 
 
+def every_command_lines(card, tg):
+    """Every command of the card's table but MR once on axis 2 and once on
+    axis 4 (writes with the parameter's default, WAP with the axis' target),
+    3 ms apart."""
+    import json
+    table = json.load(open(os.path.join(BUILD, "commands.json")))
+    out = []
+    for c in table["commands"]:
+        if card not in c["cards"] or c["mnemonic"] == "MR":
+            continue
+        for a in (1, 3):
+            if c["kind"].startswith("write"):
+                v = tg[a] if c["mnemonic"] == "WAP" else c["default"][card]
+                out.append("send %d %s %d" % (a, c["mnemonic"], v))
+            else:
+                out.append("send %d %s" % (a, c["mnemonic"]))
+            out.append("run 3")
+    return out
+
+
 def commands(card, ms=1000):
     """Three axes positioning while the host reconfigures: every 10 ms a new
     target on the fly for one of them (WAP, E) and INIT or DEINIT of the
-    fourth - the commands that run longest with interrupts masked, so that
-    the longest masked section (the bound of every interrupt's latency) and
-    the tick's measured latency are in the window."""
+    fourth - the commands that run longest with interrupts masked - and then
+    every other command once, so that the longest masked section (the bound
+    of every interrupt's latency) and the tick's measured latency are in the
+    window."""
     tg = targets(card)
     lines = setup_lines(card) + enable_lines(card) + move_lines(card, tg[:3] + [tg[3]])
     lines += ["send 3 MD", "send 3 E", "send 3 DEINIT", "run 200"] + positions_lines()
@@ -130,7 +151,8 @@ def commands(card, ms=1000):
         far = tg[a] + (1 if k % 2 else -1) * (2000 + 100 * k)
         lines += ["send %d WAP %d" % (a, far), "send %d E" % a, "send 3 %s" % ("INIT" if k % 2 == 0 else "DEINIT"),
                   "run 10"]
-    lines += ["perf quiet off", "perf report"] + positions_lines()
+    lines += ["perf quiet off"] + positions_lines() + ["perf quiet on"] + every_command_lines(card, tg)
+    lines += ["perf quiet off", "perf report"]
     return "\n".join(lines) + "\n"
 
 
