@@ -438,7 +438,7 @@ static int do_general(int ci, unsigned a, uint32_t p)
 
 static uint32_t read_value(cmd_t c, unsigned a)
 {
-    const axis_t *x = &axes[a];
+    const axis_t *x = axis_at[a];
     if (c.kind == CK_FIELD)
         return *(const uint32_t *)(const void *)((const uint8_t *)x + c.arg);
     if (c.kind == CK_RPAR) {
@@ -480,7 +480,7 @@ static int is_card_error(uint16_t code)
  * that need every error acknowledged first (6.3.7). */
 static __attribute__((noinline)) uint16_t execute_other(cmd_t c, unsigned a, uint32_t param)
 {
-    axis_t *x = &axes[a];
+    axis_t *x = axis_at[a];
     if (c.kind == CK_GEN && c.arg == CI_C) {
         x->ustat &= ~US_ERRORS;
         card_ostat &= ~(OB(AXIS_F) | OB(WATCH_F));
@@ -510,7 +510,7 @@ static __attribute__((noinline)) void execute_slow(const mac4_msg_t *in, mac4_ms
         return;
     }
     unsigned a = in->axis;
-    axis_t *x = &axes[a];
+    axis_t *x = axis_at[a];
     cmd_t c = cmd_of(in->code);
     uint16_t err;
 

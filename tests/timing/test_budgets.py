@@ -30,8 +30,6 @@ NOT_YET_MET = {
     ("profile_whole", "inc"): 13000,       # cycles per 10 ms, the SP where four axes brake and land at once; 6000
     ("profile_whole", "ssi"): 13000,
     ("cpu_load", "inc"): 42.5,             # percent; 25 (the command path at ~1 600 cycles, the supervision)
-    # the longest masked section (E, INIT) against 10% of the tick's period
-    ("masked", "ssi"): 4200,               # cycles; 4000 (WAP_R: the relative target's checks)
     ("creep_need", "stp"): 22700,          # cycles; 16000 (masked section + tick + 4 pulse interrupts)
 }
 
