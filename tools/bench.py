@@ -146,8 +146,8 @@ def main():
         creep = "no pulse-count interrupts seen in the creep scenario (moved %s)" % ps.moved(res["creep"])
     print("-- MAC4-STP creep phase: " + creep)
     for card in ("inc", "ssi", "stp"):
-        print("-- MAC4-%s, three axes moving, the host sending E with new targets and INIT/DEINIT: longest masked "
-              "section %d cycles (bound of the tick's latency; measured %d), budget %d"
+        print("-- MAC4-%s, three axes moving, the host sending E with new targets, INIT/DEINIT and every command: "
+              "longest masked section %d cycles (bound of the tick's latency; measured %d), budget %d"
               % (card.upper(), ps.masked_worst(cmds[card]) or 0, ps.timer_latency_worst(cmds[card]) or 0,
                  ps.PERIOD[card] // 10))
     print("-- MAC4-INC idle card (axes enabled at rest), host back to back: latency max %.2f ms, mean %.2f ms"
