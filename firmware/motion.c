@@ -460,10 +460,10 @@ static void __attribute__((noinline)) position_fit_step(axis_t *x, unsigned n)
     int landed;
     int32_t d;
     if (prof_fits32(&x->prof, rem)) {
-        landed = prof_step32(&x->prof, (int32_t)rem, &x->q_l32, &d);
+        landed = prof_step32(&x->prof, rem, &x->q_l32, &d);
         rows_of(x, before, d);
     } else {
-        landed = prof_position_fit(&x->prof, x->target, &x->q_l32);
+        landed = prof_position_ref(&x->prof, x->target, x->q_pv, x->q_pa, x->q_pd, x->q_free);
         next_segment(x, before);
     }
     if (landed) {

@@ -50,7 +50,7 @@ int prof_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t 
 }
 
 /* ---- the same step in 32 bits ----------------------------------------------
- * Less than 2^31 to go (Q16: 32 768 increments), speeds and ramps below
+ * Less than 2^32 to go (Q16: 65 536 increments), speeds and ramps below
  * 2^30: the braking phase of every move and whole short moves need no 64-bit
  * arithmetic, and the braking test is two or three MULU.W (mulu31) instead
  * of two 32 x 32 products (prof_step32 in profile.h).  The results are those
@@ -64,7 +64,7 @@ void prof_lim32(prof_lim32_t *l, int32_t vmax, int32_t acc, int32_t dec, int64_t
     l->acc = acc;
     l->dec = dec;
     l->d8 = prof_d8((uint32_t)dec);
-    l->free32 = free > 0 && free < INT32_MAX ? (int32_t)free : INT32_MAX;
+    l->free32 = free > 0 && free < 0xFFFFFFFFll ? (uint32_t)free : 0xFFFFFFFFu;
     l->free = free;
 }
 
@@ -73,7 +73,7 @@ int prof_position_fit(prof_t *p, int64_t target, const prof_lim32_t *l)
     int64_t rem = target - p->pos;
     int32_t step;
     if (prof_fits32(p, rem))
-        return prof_step32(p, (int32_t)rem, l, &step);
+        return prof_step32(p, rem, l, &step);
     return prof_position_ref(p, target, l->vmax, l->acc, l->dec, l->free);
 }
 

@@ -26,17 +26,18 @@ int prof_position_free(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int
 /* The limits of a move for the 32-bit step, computed once per change of
  * <pv>, <pa>, <pd> (prof_lim32): vmax, acc, dec below 2^30 (Q16 per SP);
  * d8 the braking test's dec >> 8 (at least 1); free32 the rest beyond which
- * no braking test is needed, or INT32_MAX (none within 32 bits); free the
+ * no braking test is needed, or 2^32 - 1 (none within 32 bits); free the
  * same for the 64-bit fallback (0: unknown). */
 typedef struct {
     int32_t vmax, acc, dec;
     uint32_t d8;
-    int32_t free32;
+    uint32_t free32;
     int64_t free;
 } prof_lim32_t;
 void prof_lim32(prof_lim32_t *l, int32_t vmax, int32_t acc, int32_t dec, int64_t free);
 /* The same step for limits below 2^30, told so: in 32 bits (prof_step32)
- * while the rest to go is below 2^31 (the braking phase, short moves). */
+ * while the rest to go is below 2^32 (the braking phase, moves of up to
+ * 65 535 increments or steps, a change of course near the target). */
 int prof_position_fit(prof_t *p, int64_t target, const prof_lim32_t *l);
 /* The same step in 64 bits throughout: the reference the 32-bit path of
  * prof_position_free() is tested against, and its fallback. */
@@ -150,35 +151,35 @@ static inline __attribute__((always_inline)) int prof_must_brake32(uint32_t v, u
     return prof_brake_d8(v, prof_d8(dec), rem);
 }
 
-/* Does prof_step32 apply: rem = target - pos within +-(2^31 - 1), the
+/* Does prof_step32 apply: rem = target - pos within +-(2^32 - 1), the
  * velocity within +-2^30? */
 static inline __attribute__((always_inline)) int prof_fits32(const prof_t *p, int64_t rem)
 {
     /* by the words: a 64-bit comparison is a dozen 68000 instructions */
     int32_t rh = (int32_t)(rem >> 32), vh = (int32_t)(p->vel >> 32);
     uint32_t rl = (uint32_t)rem, vl = (uint32_t)p->vel;
-    if (rh == 0 ? rl >= 0x7FFFFFFFu : rh != -1 || rl <= 0x80000001u)
+    if (rh != 0 && (rh != -1 || rl == 0))
         return 0;
     return vh == 0 ? vl < 0x40000000u : vh == -1 && vl > 0xC0000000u;
 }
 
 /* One SP of prof_position_ref() where prof_fits32(p, rem), rem = target -
- * pos, in 32 bits, with the limits of prof_lim32: the same result (the unit
- * test compares them).  *step is the SP's motion (below 2^30 either way);
- * returns 1 on landing.  One braking test per SP while accelerating or
- * braking: where the speed of the moment must brake, a faster one must too.
- * Inline: the profile generator's braking and landing step. */
-static inline __attribute__((always_inline)) int prof_step32(prof_t *p, int32_t rem, const prof_lim32_t *l,
+ * pos, with the speeds in 32 bits and the rest as its sign and 32-bit
+ * magnitude, with the limits of prof_lim32: the same result (the unit test
+ * compares them).  *step is the SP's motion (below 2^30 either way); returns
+ * 1 on landing.  One braking test per SP while accelerating or braking:
+ * where the speed of the moment must brake, a faster one must too.  Inline:
+ * the profile generator's braking and landing step. */
+static inline __attribute__((always_inline)) int prof_step32(prof_t *p, int64_t rem64, const prof_lim32_t *l,
                                                              int32_t *step)
 {
     int32_t vel = (int32_t)p->vel;
+    int neg = rem64 < 0;
+    uint32_t rem = neg ? 0u - (uint32_t)rem64 : (uint32_t)rem64;   /* |rest| < 2^32 */
     if (rem == 0 && vel == 0) {
         *step = 0;
         return 1;
     }
-    int neg = rem < 0;
-    if (neg)
-        rem = -rem;
     int32_t v = neg ? -vel : vel;                /* speed towards the target */
     int32_t dec = l->dec;
     if (v < 0) {                                 /* moving away: turn round first */
@@ -204,9 +205,8 @@ static inline __attribute__((always_inline)) int prof_step32(prof_t *p, int32_t 
         if (quick)
             brake = up <= 0;
         else if (up > v && v > 0)                /* accelerating: test v first */
-            brake = prof_brake_d8((uint32_t)v, d8, (uint32_t)rem) ? 1
-                    : (prof_brake_d8((uint32_t)up, d8, (uint32_t)rem) ? (up = v, 0) : 0);
-        else if (up > 0 && !prof_brake_d8((uint32_t)up, d8, (uint32_t)rem))
+            brake = prof_brake_d8((uint32_t)v, d8, rem) ? 1 : (prof_brake_d8((uint32_t)up, d8, rem) ? (up = v, 0) : 0);
+        else if (up > 0 && !prof_brake_d8((uint32_t)up, d8, rem))
             brake = 0;
         else
             brake = 1;                           /* (v: the same test, or v > vmax, or v = 0) */
@@ -217,12 +217,12 @@ static inline __attribute__((always_inline)) int prof_step32(prof_t *p, int32_t 
         } else {
             v = up;
         }
-        if (v > rem)
-            v = rem;                             /* land exactly */
+        if (v > 0 && (uint32_t)v > rem)
+            v = (int32_t)rem;                    /* land exactly (rem < v < 2^30) */
         if (v <= 0)
-            v = rem < dec ? rem : dec;
+            v = rem < (uint32_t)dec ? (int32_t)rem : dec;
     }
-    int landed = v == rem;
+    int landed = v >= 0 && (uint32_t)v == rem;
     int32_t s = neg ? -v : v;
     *step = s;
     p->pos += s;

@@ -115,6 +115,27 @@ def whole_moves(card, ms=1400):
     return "\n".join(lines) + "\n"
 
 
+def on_the_fly(card):
+    """Four axes far from their targets (INC/SSI 60 000 increments) change
+    course on the fly: a target on the other side (WAP, E: they brake, turn
+    round and accelerate away) and then a lower <pv> (WPV 40, E: they brake
+    down to it), all four at once - the profile generator's steps that the
+    32-bit paths do not take (a rest of 2^31 Q16 or more, a speed above
+    <pv>, moving away from the target)."""
+    base = SSI_AT if card == "ssi" else 0
+    far = [60000, -60000, 60000, -60000]
+    lines = setup_lines(card) + enable_lines(card) + move_lines(card, [base + d for d in far])
+    lines += ["run 300"] + positions_lines() + ["perf track on", "perf probe %s" % PROFILE_PROBE, "perf quiet on",
+                                                 "perf reset"]
+    for a in AXES:
+        lines += ["send %d WAP %d" % (a, base - far[a]), "send %d E" % a]
+    lines.append("run 400")
+    for a in AXES:
+        lines += ["send %d WPV 40" % a, "send %d E" % a]
+    lines += ["run 400", "perf quiet off", "perf report"] + positions_lines()
+    return "\n".join(lines) + "\n"
+
+
 def every_command_lines(card, tg):
     """Every command of the card's table but MR once on axis 2 and once on
     axis 4 (writes with the parameter's default, WAP with the axis' target),
