@@ -123,6 +123,8 @@ def main():
         res[card] = ps.run(card, ps.moving(card))
     res["idle"] = ps.run("inc", ps.idle("inc"))
     cmds = {card: ps.run(card, ps.commands(card)) for card in ("inc", "ssi", "stp")}
+    whole = {card: ps.run(card, ps.whole_moves(card)) for card in ("inc", "ssi")}
+    fly = {card: ps.run(card, ps.on_the_fly(card)) for card in ("inc", "ssi")}
     res["creep"] = ps.run("stp", ps.creep())
     for card in ("inc", "ssi", "stp"):
         print("-- MAC4-%s, four axes positioning, host sending back to back (moved %s)"
@@ -145,6 +147,11 @@ def main():
     else:
         creep = "no pulse-count interrupts seen in the creep scenario (moved %s)" % ps.moved(res["creep"])
     print("-- MAC4-STP creep phase: " + creep)
+    for card in ("inc", "ssi"):
+        print("-- MAC4-%s profile generator, worst SP: %d cycles over whole moves (four axes braking at once), "
+              "%d changing course on the fly (budget %d)" % (card.upper(), ps.profile_per_period(whole[card]) or 0,
+                                                             ps.profile_per_period(fly[card]) or 0,
+                                                             ps.BUDGET_PROFILE_SERVO))
     for card in ("inc", "ssi", "stp"):
         print("-- MAC4-%s, three axes moving, the host sending E with new targets, INIT/DEINIT and every command: "
               "longest masked section %d cycles (bound of the tick's latency; measured %d), budget %d"
@@ -189,6 +196,8 @@ def main():
         "stp_tick_worst_cycles": ps.worst(res["stp"], "timer"),
         "stp_profile_worst_cycles": ps.profile_per_period(res["stp"]),
         "stp_pulse_irq_worst_cycles": axis.get("max") if axis.get("count") else None,
+        "profile_tick_worst_cycles_whole_moves": {c: ps.profile_per_period(whole[c]) for c in whole},
+        "profile_tick_worst_cycles_on_the_fly": {c: ps.profile_per_period(fly[c]) for c in fly},
         "masked_section_worst_cycles": {c: ps.masked_worst(cmds[c]) for c in cmds},
         "timer_latency_worst_cycles": {c: ps.timer_latency_worst(cmds[c]) for c in cmds},
         "cpu_load_percent": ps.load_percent(inc),
