@@ -240,9 +240,7 @@ static int write_param(unsigned a, unsigned p, int32_t v)
     default:
         break;
     }
-    int r = params_write(a, p, v);
-    if (r)
-        return r;
+    params_write(a, p, v);                        /* (in range: checked above) */
     if (p == P_IRQ1 || p == P_IRQ2)
         irq12_update();
     if (p == P_SSF && PAR_W(a, LV) > v) {   /* 4.8.3: <lv> follows a lower <ssf> */

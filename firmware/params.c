@@ -23,7 +23,7 @@ _Static_assert(NPARAMS < 256, "parameter numbers are bytes in the lists below");
 /* The mode parameters written since the last E, per axis: E copies only
  * those (the others are in force already: par_w and par_a of a mode
  * parameter differ only after a write here). */
-static uint8_t mode_dirty[MAC4_NAXES][NPARAMS];
+static uint8_t mode_dirty[NPARAMS][MAC4_NAXES];    /* [k][a]: axis a's k-th (k*4 + a: no product) */
 static uint8_t mode_dirty_n[MAC4_NAXES];
 static uint8_t mode_listed[NPARAMS][MAC4_NAXES];
 
@@ -45,11 +45,9 @@ void params_reset(void)
         par_gen[a]++;
 }
 
-int params_write(unsigned axis, unsigned p, int32_t v)
+void params_write(unsigned axis, unsigned p, int32_t v)
 {
     const pdesc_t *d = &pdesc[p];
-    if (v < d->min || v > d->max)
-        return ERR_LIMIT;
     uint8_t flags = d->flags;
     unsigned a = (flags & PF_CARD) ? 0 : axis;
     par_w[p][a] = v;
@@ -57,16 +55,15 @@ int params_write(unsigned axis, unsigned p, int32_t v)
         par_a[p][a] = v;                          /* read where used, never cached: par_gen stays */
     } else if (d->kind == PK_MODE && !(flags & PF_CARD) && !mode_listed[p][a]) {
         mode_listed[p][a] = 1;
-        mode_dirty[a][mode_dirty_n[a]++] = (uint8_t)p;
+        mode_dirty[mode_dirty_n[a]++][a] = (uint8_t)p;
     }
-    return 0;
 }
 
 void params_activate(unsigned axis, uint8_t kind)
 {
     if (kind == PK_MODE) {
         for (unsigned i = mode_dirty_n[axis]; i--;) {
-            unsigned p = mode_dirty[axis][i];
+            unsigned p = mode_dirty[i][axis];
             par_a[p][axis] = par_w[p][axis];
             mode_listed[p][axis] = 0;
         }

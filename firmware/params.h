@@ -53,7 +53,8 @@ void params_reset(void);                    /* defaults, all axes */
 /* The same for a parameter chosen at run time (command dispatch). */
 int32_t par(unsigned axis, unsigned p);
 int32_t par_written(unsigned axis, unsigned p);
-int params_write(unsigned axis, unsigned p, int32_t v);   /* 0 or ERR_LIMIT */
+/* v within the parameter's range: the command's first check (cmd.c write_param) */
+void params_write(unsigned axis, unsigned p, int32_t v);
 void params_activate(unsigned axis, uint8_t kind);       /* E: PK_MODE, INIT: PK_SYS */
 
 #endif
