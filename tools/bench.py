@@ -153,10 +153,12 @@ def main():
                                                              ps.profile_per_period(fly[card]) or 0,
                                                              ps.BUDGET_PROFILE_SERVO))
     for card in ("inc", "ssi", "stp"):
+        pc = cmds[card].get("mask_worst_pc")
         print("-- MAC4-%s, three axes moving, the host sending E with new targets, INIT/DEINIT and every command: "
-              "longest masked section %d cycles (bound of the tick's latency; measured %d), budget %d"
-              % (card.upper(), ps.masked_worst(cmds[card]) or 0, ps.timer_latency_worst(cmds[card]) or 0,
-                 ps.PERIOD[card] // 10))
+              "longest masked section %d cycles, from %s (bound of the tick's latency; measured %d), budget %d"
+              % (card.upper(), ps.masked_worst(cmds[card]) or 0,
+                 "?" if pc is None else "$%06X in %s" % (pc, ps.symbol_of(card, pc)),
+                 ps.timer_latency_worst(cmds[card]) or 0, ps.PERIOD[card] // 10))
     print("-- MAC4-INC idle card (axes enabled at rest), host back to back: latency max %.2f ms, mean %.2f ms"
           % (ps.latency_ms(res["idle"]) or 0, res["idle"]["latency"].get("mean_us", 0) / 1000.0))
 

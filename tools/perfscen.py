@@ -227,6 +227,8 @@ def parse(text):
             r["load"] = kv
         elif tag == "perf-mask":
             r["mask"] = kv
+        elif tag == "perf-mask-worst":
+            r["mask_worst_pc"] = int(kv["pc"], 16)
         elif tag == "perf-latency":
             r["latency"] = kv
         elif tag == "perf-stack":
@@ -267,6 +269,18 @@ def masked_worst(r):
     """The longest main-loop section with interrupts masked (perf mask): no
     interrupt waits longer to be acknowledged (but for level 7)."""
     return r["mask"].get("max") if r["mask"].get("count") else None
+
+
+def symbol_of(card, pc):
+    """The function of the EPROM image that holds address pc."""
+    best = None
+    for line in open(os.path.join(BUILD, "eprom", "mac4-%s.sym" % card)):
+        parts = line.split()
+        if len(parts) >= 3 and parts[1] in "tTW":
+            a = int(parts[0], 16)
+            if a <= pc and (best is None or a > best[0]):
+                best = (a, parts[2])
+    return best[1] if best else "?"
 
 
 def timer_latency_worst(r):
