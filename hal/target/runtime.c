@@ -134,16 +134,30 @@ void *memmove(void *dst, const void *src, size_t n);
 void *memset(void *dst, int c, size_t n);
 int memcmp(const void *a, const void *b, size_t n);
 
-void *memcpy(void *dst, const void *src, size_t n)
+/* Long moves where both ends are even (the 68000 needs no more for a
+ * MOVE.L), bytes for the rest: a 64-byte struct cleared in 300 cycles, not
+ * 2 700.  No loop here may be turned back into a call of itself. */
+#define RT_NO_LIBCALL __attribute__((optimize("no-tree-loop-distribute-patterns")))
+
+RT_NO_LIBCALL void *memcpy(void *dst, const void *src, size_t n)
 {
     uint8_t *d = dst;
     const uint8_t *s = src;
+    if (n >= 8 && !(((uintptr_t)d | (uintptr_t)s) & 1u)) {
+        uint32_t *dl = (uint32_t *)(void *)d;
+        const uint32_t *sl = (const uint32_t *)(const void *)s;
+        for (size_t k = n >> 2; k; k--)
+            *dl++ = *sl++;
+        d = (uint8_t *)dl;
+        s = (const uint8_t *)sl;
+        n &= 3u;
+    }
     while (n--)
         *d++ = *s++;
     return dst;
 }
 
-void *memmove(void *dst, const void *src, size_t n)
+RT_NO_LIBCALL void *memmove(void *dst, const void *src, size_t n)
 {
     uint8_t *d = dst;
     const uint8_t *s = src;
@@ -157,15 +171,25 @@ void *memmove(void *dst, const void *src, size_t n)
     return dst;
 }
 
-void *memset(void *dst, int c, size_t n)
+RT_NO_LIBCALL void *memset(void *dst, int c, size_t n)
 {
     uint8_t *d = dst;
+    if (n >= 8 && !((uintptr_t)d & 1u)) {
+        uint32_t w = (uint8_t)c;
+        w |= w << 8;
+        w |= w << 16;
+        uint32_t *dl = (uint32_t *)(void *)d;
+        for (size_t k = n >> 2; k; k--)
+            *dl++ = w;
+        d = (uint8_t *)dl;
+        n &= 3u;
+    }
     while (n--)
         *d++ = (uint8_t)c;
     return dst;
 }
 
-int memcmp(const void *a, const void *b, size_t n)
+RT_NO_LIBCALL int memcmp(const void *a, const void *b, size_t n)
 {
     const uint8_t *x = a, *y = b;
     for (; n; n--, x++, y++)

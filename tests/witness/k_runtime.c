@@ -4,6 +4,7 @@
 #include "witness.h"
 #include "runtime.h"
 #include "mul16.h"
+#include <string.h>
 
 W_KERNEL(runtime)
 {
@@ -47,6 +48,28 @@ W_KERNEL(runtime)
         w_u64(v >> s);                              /* __lshrdi3 */
         w_u64(v << s);                              /* __ashldi3 */
         w_u64((uint64_t)((int64_t)v >> s));         /* __ashrdi3 */
+        w_end();
+    }
+    /* memset, memcpy, memmove (runtime.c on the 68000: long moves where both
+     * ends are even) at every parity of both ends, short and long */
+    static uint8_t buf[160], src[160];
+    for (uint32_t n = 0; n < 600; n++) {
+        for (unsigned i = 0; i < sizeof buf; i++) {
+            buf[i] = (uint8_t)(i * 7u + n);
+            src[i] = (uint8_t)(i * 13u + 5u * n);
+        }
+        unsigned d = w_rand(&r) % 40u, s = w_rand(&r) % 40u, len = w_rand(&r) % (n & 1u ? 9u : 90u);
+        switch (n % 3u) {
+        case 0: memset(buf + d, (int)(w_rand(&r) & 0xFFu), len); break;
+        case 1: memcpy(buf + d, src + s, len); break;
+        default: memmove(buf + d, buf + s, len); break;
+        }
+        uint32_t h = 0;
+        for (unsigned i = 0; i < sizeof buf; i++)
+            h = (h << 5 | h >> 27) ^ buf[i];
+        w_begin("runtime", "mem", n);
+        w_u32(d << 16 | s << 8 | len);
+        w_u32(h);
         w_end();
     }
 }
