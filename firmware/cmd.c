@@ -303,6 +303,12 @@ static int mode_change_check(unsigned a, uint8_t target)
     return 0;
 }
 
+/* Commands run in the main loop only, at level 0: execute_and_respond masks
+ * them and restores level 0 after.  A part of a command that the tick does
+ * not read may run with interrupts enabled between these two. */
+static inline void cmd_unmask(void) { hal_irq_enable_all(); }
+static inline void cmd_remask(void) { (void)hal_irq_save(); }
+
 static __attribute__((noinline)) int do_execute(unsigned a)
 {
     uint8_t target = axes[a].next_mode;
@@ -319,15 +325,15 @@ static __attribute__((noinline)) int do_execute(unsigned a)
     /* The activation, <mf> and the gains are read by the main loop only (the
      * tick reads no mode parameter but <da> in test mode, one word): they
      * run with interrupts enabled, between the checks and the commit, which
-     * are masked.  Commands run in the main loop only, at level 0. */
+     * are masked. */
     int init = axis_initialised(a);
-    hal_irq_enable_all();
+    cmd_unmask();
     params_activate(a, PK_MODE);
     if (init)
         axis_prepare_mode(a);                     /* the system parameters' part is INIT's */
     if (mode != M_DISABLE)
         motion_plan(a, &plan);
-    (void)hal_irq_save();
+    cmd_remask();
     if (!init)
         axis_prepare(a);
     axes[a].next_mode = NO_MODE;
@@ -359,18 +365,16 @@ static int do_init(unsigned a)
     /* INIT needs the axis disabled: the tick drives 0 V there and, with its
      * measurement of the axis held off until the supervision after INIT
      * (mk_tick), reads nothing INIT writes - so the bulk of INIT runs with
-     * interrupts enabled (the other axes' ticks are not held off by it);
-     * commands run in the main loop only, at level 0, which the command's
-     * mask is restored to.  (The STP's tick works on a disabled axis' step
-     * output too: masked.) */
+     * interrupts enabled (the other axes' ticks are not held off by it).
+     * (The STP's tick works on a disabled axis' step output too: masked.) */
     axes[a].mk_tick = MK_NONE;
-    hal_irq_enable_all();
+    cmd_unmask();
 #endif
     params_activate(a, PK_SYS);
     params_activate(a, PK_MODE);
     axis_init_measurement(a);
 #if MAC4_CARD != MAC4_CARD_STP
-    (void)hal_irq_save();
+    cmd_remask();
 #endif
     axes[a].ustat |= UB(INIT);
     axes[a].next_mode = NO_MODE;
