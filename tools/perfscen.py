@@ -103,6 +103,21 @@ def moving(card, ms=1000, host_load=True):
     return "\n".join(lines) + "\n"
 
 
+# Every term of the servo filter (5.16) and a torque limit: the INC example's
+# zero and integral gain (docs/performance.md, the 7.2 examples: K 20, zero
+# 0.5, KI 0.02) with a pole and <sw> besides, so that the tick takes the
+# general filter's longest path on every axis (the defaults are K only).
+FULL_FILTER = ("WZE 128", "WPO 10", "WKI 41", "WSW 2000")
+
+
+def full_filter(card, ms=1000):
+    """Four axes moving as in moving(), each with FULL_FILTER: the tick's
+    worst case."""
+    lines = setup_lines(card) + enable_lines(card) + move_lines(card, targets(card), extra=FULL_FILTER)
+    lines += window_lines(ms, False, lead_ms=200)
+    return "\n".join(lines) + "\n"
+
+
 def whole_moves(card, ms=1400):
     """Four axes through whole moves inside the window: accelerate, cruise,
     brake and land (INC/SSI 8000 increments at 100 per SP, two each way), all
