@@ -249,10 +249,93 @@ static void torque_limit_winds_up_no_further(void **st)
     assert_true(k < 100);
 }
 
+/* The fixed-point filter's own definition, in 64 bits with exact floors
+ * (servo.h): u1 = 64 ga e - floor(ga ze e' / 4) - floor(po u1' / 256),
+ * bounded to 2^23; u2 += floor(r / 2^kisc) of r = residual + ki e', the
+ * rest kept as the residual, u2 bounded to the output range in Q8; u the
+ * rounded sum, saturated.  servo_step must be it bit for bit, whatever way
+ * servo.c computes it. */
+typedef struct { int64_t u1, u2, res, ep; } exact_t;
+
+static int64_t floor_div(int64_t a, int64_t d) { return a >= 0 ? a / d : -((-a + d - 1) / d); }
+
+static int16_t exact_step(exact_t *x, const servo_gains_t *g, int32_t e32)
+{
+    int64_t e = e32 > g->e_lim ? g->e_lim : e32 < -g->e_lim ? -g->e_lim : e32;
+    int64_t hi = g->sw_lim ? g->sw_lim - 1 : SERVO_OUT_MAX, lo = g->sw_lim ? -(g->sw_lim - 1) : SERVO_OUT_MIN;
+    int64_t u1 = 64 * (int64_t)g->ga * e - floor_div((int64_t)g->ga * g->ze * x->ep, 4) -
+                 floor_div((int64_t)g->po * x->u1, 256);
+    if (u1 > SERVO_U1_MAX)
+        u1 = SERVO_U1_MAX;
+    if (u1 < -SERVO_U1_MAX)
+        u1 = -SERVO_U1_MAX;
+    int64_t u2 = x->u2;
+    if (g->ki) {
+        int64_t r = x->res + (int64_t)g->ki * x->ep, q = floor_div(r, (int64_t)1 << g->kisc);
+        x->res = r - q * ((int64_t)1 << g->kisc);
+        u2 += q;
+    }
+    if (u2 > hi * 256)
+        u2 = hi * 256;
+    if (u2 < lo * 256)
+        u2 = lo * 256;
+    x->u1 = u1;
+    x->u2 = u2;
+    x->ep = e;
+    int64_t u = floor_div(u1 + u2 + 128, 256);
+    return (int16_t)(u > hi ? hi : u < lo ? lo : u);
+}
+
+static void full_filter_is_its_exact_definition(void **st)
+{
+    (void)st;
+    static const int16_t set[][6] = {     /* ga ze po ki kisc sw */
+        {80, 128, 0, 41, 3, 2048}, {200, 253, 0, 13, 0, 2048}, {80, 128, 10, 41, 8, 2000},
+        {32767, 255, 255, 32767, 0, 2048}, {32767, 255, -255, 32767, 15, 1}, {1, 0, -255, 1, 15, 0},
+        {9, 255, 255, 32767, 0, 2048}, {8, 255, -255, 32767, 15, 700}, {40, 0, 0, 0, 8, 2048},
+    };
+    for (unsigned n = 0; n < 400; n++) {
+        int32_t ga, ze, po, ki, kisc, sw;
+        if (n < sizeof set / sizeof set[0]) {
+            ga = set[n][0], ze = set[n][1], po = set[n][2], ki = set[n][3], kisc = set[n][4], sw = set[n][5];
+        } else {
+            ga = rnd(16383) + 16384;
+            ze = rnd(127) + 128;
+            po = rnd(255);
+            ki = n % 3 ? rnd(16383) + 16384 : 0;
+            kisc = rnd(7) + 8;
+            sw = n % 2 ? rnd(1024) + 1024 : 2048;
+            if (n % 5 == 0)
+                ga = rnd(8) + 8;                /* e_lim at 32767 */
+        }
+        servo_gains_t g;
+        servo_state_t s;
+        exact_t x = {0, 0, 0, 0};
+        servo_set_gains(&g, ga, ze, po, ki, kisc);
+        servo_set_limit(&g, sw);
+        servo_reset(&s);
+        int32_t e = 0;
+        for (long k = 0; k < 3000; k++) {
+            switch (k % 4) {
+            case 0: e = rnd(k % 3 ? 3000 : 5000000); break;
+            case 1: e += rnd(50); break;
+            case 2: e = rnd(40); break;
+            default: break;
+            }
+            int16_t want = exact_step(&x, &g, e), got = servo_step(&s, &g, e);
+            if (got != want || s.u1 != x.u1 || s.u2 != x.u2 || s.u2_res != x.res || s.e_prev != x.ep)
+                fail_msg("gains %d %d %d %d %d sw %d, tick %ld, e %d: u %d want %d, u1 %d/%lld u2 %d/%lld res %d/%lld",
+                         ga, ze, po, ki, kisc, sw, k, e, got, want, s.u1, (long long)x.u1, s.u2, (long long)x.u2,
+                         s.u2_res, (long long)x.res);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(fast_path_is_the_full_filter),
+        cmocka_unit_test(full_filter_is_its_exact_definition),
         cmocka_unit_test(manual_inc_example),
         cmocka_unit_test(manual_ssi_example),
         cmocka_unit_test(with_a_pole_and_default_shift),
