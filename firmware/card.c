@@ -26,6 +26,7 @@ _Static_assert(MAC4_NAXES == 4, "axis_at[] lists four axes");
 uint32_t card_ostat;
 uint16_t card_err_report;
 uint32_t card_ticks;
+uint8_t card_servo_general;
 static volatile uint8_t estop_seen;   /* set by the level 7 handler */
 uint32_t card_supervised;             /* card_ticks at the last card_supervise() */
 uint16_t card_supervise_late;         /* ticks the main loop did not supervise in time */
@@ -81,6 +82,19 @@ int axis_standstill(unsigned n)
         return 1;
     return motion_at_rest(n) && !motion_busy(n) && m != M_SPEED && m != M_VEL_TRACK &&
            m != M_POS_TRACK && !axes[n].stop_then;
+}
+
+/* The only writer of an axis' gains, so that card_servo_general always
+ * says which axes need the general filter (interrupts masked: motion_start) */
+void axis_set_gains(unsigned n, const servo_gains_t *g)
+{
+    axis_at[n]->gains = *g;
+#if MAC4_CARD != MAC4_CARD_STP
+    if (g->full)
+        card_servo_general |= (uint8_t)(1u << n);
+    else
+        card_servo_general &= (uint8_t)~(1u << n);
+#endif
 }
 
 void axis_set_mode(unsigned n, uint8_t mode)
@@ -208,6 +222,7 @@ void card_reset(void)
     card_ostat = 0;
     card_err_report = 0;
     card_ticks = 0;
+    card_servo_general = 0;
     card_profile_due = 0;
     card_profile_late = 0;
     card_supervise_late = 0;
@@ -386,7 +401,7 @@ static void leds(void)
  * the registers are absolute addresses and the axis one address register;
  * ph4 is the tick's phase in the SP times 4 (the row offset in bytes).
  * /EN follows the mode in axis_set_mode(); here only the DAC. */
-static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned ph4)
+static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned ph4, int general)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
@@ -426,7 +441,11 @@ static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned
             x->br_pos += v;
             sp = (int32_t)((x->br_pos + 0x8000) >> 16);
         }
-        u = servo_step(&x->servo, &x->gains, pos_sub(sp, x->meas));
+        int32_t e = pos_sub(sp, x->meas);
+        if (general && x->gains.full)             /* card_servo_general: K-only gains without it */
+            u = servo_filter(&x->servo, &x->gains, e);
+        else
+            u = servo_step_k(&x->servo, &x->gains, e);
         if (x->ustat & UB(REV_O))                 /* USR (4.2) */
             u = (int16_t)(u == SERVO_OUT_MIN ? SERVO_OUT_MAX : -u);
     }
@@ -454,7 +473,9 @@ static inline __attribute__((always_inline)) unsigned take_row(unsigned n)
     return x->mode != M_DISABLE && x->mode != M_TEST;
 }
 
-void fw_isr_tick(void)
+/* The tick, inlined twice: for K-only gains on every axis (the defaults)
+ * and with the general filter inline (card_servo_general) */
+static inline __attribute__((always_inline)) void tick(int general)
 {
     hal_wr16(TMR_STATUS, TMR_ST_EXPIRED);
     unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
@@ -464,11 +485,22 @@ void fw_isr_tick(void)
         card_profile_due = MAC4_NAXES;
     }
     unsigned ph4 = phase * 4u;
-    tick_axis(0, ph4);
-    tick_axis(1, ph4);
-    tick_axis(2, ph4);
-    tick_axis(3, ph4);
+    tick_axis(0, ph4, general);
+    tick_axis(1, ph4, general);
+    tick_axis(2, ph4, general);
+    tick_axis(3, ph4, general);
     card_ticks++;
+}
+
+static void __attribute__((noinline)) tick_general(void) { tick(1); }
+
+void fw_isr_tick(void)
+{
+    if (card_servo_general) {
+        tick_general();
+        return;
+    }
+    tick(0);
 }
 #else
 /* The STP's position counter (steps, or encoder increments with BR closed)

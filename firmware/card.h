@@ -107,6 +107,11 @@ extern axis_t *const axis_at[MAC4_NAXES];
 extern uint32_t card_ostat;     /* overall status, manual 7.1.3 (RAS) */
 extern uint16_t card_err_report;/* 164/165 for the next command on any axis */
 extern uint32_t card_ticks;     /* servo ticks since reset */
+/* INC/SSI: bit n set while axis n's gains take the general filter
+ * (servo_gains_t.full), kept by axis_set_gains, the gains' only writer.
+ * Clear, the tick runs its body for K-only gains on every axis, which saves
+ * fewer registers and tests no axis' gains (card.c, tick()). */
+extern uint8_t card_servo_general;
 
 void card_reset(void);          /* outputs to reset state, defaults */
 void card_start(void);          /* timer, serial, interrupts */
@@ -131,6 +136,7 @@ extern uint16_t card_supervise_late;        /* ticks supervised late (the main l
 
 /* Axis state changes used by commands and by the protective reactions. */
 void axis_set_mode(unsigned n, uint8_t mode);
+void axis_set_gains(unsigned n, const servo_gains_t *g);
 void axis_disable(unsigned n);             /* at once, no ramp */
 void axis_error(unsigned n, uint32_t ubit, uint16_t code);  /* set bit, report code next */
 int axis_standstill(unsigned n);

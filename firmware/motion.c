@@ -256,7 +256,7 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
         motion_hold(n);                          /* no jump when the drive comes on */
         servo_reset(&x->servo);
     }
-    x->gains = p->gains;
+    axis_set_gains(n, &p->gains);
     x->done = 0;
     x->phase = 0;
     x->stop_then = STOP_NONE;

@@ -30,7 +30,13 @@ typedef struct {
     uint8_t full;           /* derived: <ze>, <po> or <ki> set, or a limit (servo_step_full) */
     int16_t e_lim;          /* derived: |e| limit so that K*|e| <= 2^16 LSB */
     int16_t sw_lim;         /* <sw> + 1 below the DAC range (output within -sw..sw), 0: none */
-} servo_gains_t;            /* 14 bytes, as before <sw>: sizeof(axis_t) is in the tick's index arithmetic */
+    /* derived for the general filter, so that its tick needs no shift by a
+     * variable and one MULS.W less (servo_set_gains, servo_set_limit): */
+    int16_t gzh, gzl;       /* <ga> <ze> = gzh 2^8 + gzl, 0 <= gzl < 2^8 (gzh < 2^15) */
+    int16_t ki_mask;        /* 2^<ki_sc> - 1: the integrator's residual */
+    int16_t out_hi, out_lo; /* the output range: 2047/-2048, or <sw>/-<sw> */
+    int32_t u2_hi, u2_lo;   /* the same in Q8, the integrator's bounds */
+} servo_gains_t;
 
 typedef struct {
     int32_t u1;             /* Q8 */
@@ -49,22 +55,71 @@ void servo_set_gains(servo_gains_t *g, int32_t ga, int32_t ze, int32_t po, int32
 #define SERVO_SW_FULL 2048
 void servo_set_limit(servo_gains_t *g, int32_t sw);
 void servo_reset(servo_state_t *s);
-/* The general filter, every term (servo.c). */
+/* The general filter, every term: servo_filter() out of line (servo.c). */
 int16_t servo_step_full(servo_state_t *s, const servo_gains_t *g, int32_t e);
 
 #define SERVO_U1_MAX ((1l << 23) - 1)
+
+#include "mul16.h"
+
+/* The general filter, inline for the tick (servo_step).  In Q8:
+ *   u1 = 64 ga e - floor(ga ze e' / 4) - floor(po u1' / 256), within 2^23;
+ *   u2 += floor(r / 2^kisc) of r = residual + ki e', the rest the residual,
+ *        u2 within the output range;
+ *   u  = (u1 + u2 + 128) >> 8, saturated to the output range
+ * (tests/unit/test_servo.c holds it bit for bit against that definition in
+ * 64 bits).  |ga e| <= 2^18 (e_lim), so |ga ze e'| < 2^26: the K A e' term
+ * is 64 gzh e' + floor(gzl e' / 4) in two MULS.W (the second by a byte,
+ * the faster), each product within 32 bits; po u1' as hi 256 + lo,
+ * 0 <= lo < 256.  Each MULS.W is up to 70
+ * cycles on a 68000, so a zero term costs none. */
+static inline __attribute__((always_inline)) int16_t servo_filter(servo_state_t *s, const servo_gains_t *g,
+                                                                  int32_t e32)
+{
+    int32_t lim = g->e_lim;
+    int16_t e = (int16_t)(e32 > lim ? lim : e32 < -lim ? -lim : e32);
+    int16_t ep = s->e_prev;
+    int32_t u1 = muls16(g->ga, e) * 64;
+    if (g->ze)
+        u1 -= muls16(g->gzh, ep) * 64 + (muls16(ep, g->gzl) >> 2);
+    if (g->po) {
+        int32_t a = s->u1;
+        IN_REG(a);
+        u1 -= muls16((int16_t)(a >> 8), g->po) + (muls16((int16_t)(a & 0xFF), g->po) >> 8);
+    }
+    /* bound the lag state to 2^15 LSB (Q8: 2^23), 16 times full scale: the
+     * DAC is saturated long before, and the bound keeps po u1 in MULS.W */
+    if ((uint32_t)u1 + (uint32_t)SERVO_U1_MAX > 2u * SERVO_U1_MAX)
+        u1 = u1 < 0 ? -SERVO_U1_MAX : SERVO_U1_MAX;
+    s->u1 = u1;
+    int32_t u2 = s->u2;
+    if (g->ki) {
+        int32_t r = s->u2_res + muls16(g->ki, ep);
+        s->u2_res = r & g->ki_mask;                  /* r - floor(r / 2^kisc) 2^kisc */
+        u2 += r >> g->kisc;
+    }
+    if (u2 > g->u2_hi)                               /* anti wind-up: u2 alone never */
+        u2 = g->u2_hi;                               /* beyond the output range */
+    else if (u2 < g->u2_lo)
+        u2 = g->u2_lo;
+    s->u2 = u2;
+    s->e_prev = e;
+    int32_t u = (u1 + u2 + 128) >> 8;                /* to DAC LSB, rounded */
+    if (u > g->out_hi)
+        u = g->out_hi;
+    else if (u < g->out_lo)
+        u = g->out_lo;
+    return (int16_t)u;
+}
 
 /* One sampling period: the DAC word for following error e.  Inline, for the
  * tick: with <ze> = <po> = <ki> = 0 (the defaults and the manual's examples
  * but one) and no <sw> limit the filter is K e plus the frozen integrator,
  * one MULS.W; the result is bit for bit what servo_step_full() gives for
- * those gains.  Everything else (a limit included) is servo_step_full(). */
-#include "mul16.h"
-static inline __attribute__((always_inline)) int16_t servo_step(servo_state_t *s, const servo_gains_t *g,
-                                                                int32_t e32)
+ * those gains.  Everything else (a limit included) is servo_filter(). */
+static inline __attribute__((always_inline)) int16_t servo_step_k(servo_state_t *s, const servo_gains_t *g,
+                                                                  int32_t e32)
 {
-    if (g->full)
-        return servo_step_full(s, g, e32);
     int32_t lim = g->e_lim;
     int16_t e = (int16_t)(e32 > lim ? lim : e32 < -lim ? -lim : e32);
     int32_t u1 = muls16(g->ga, e) * 64;
@@ -77,6 +132,12 @@ static inline __attribute__((always_inline)) int16_t servo_step(servo_state_t *s
     if ((uint32_t)(u - SERVO_OUT_MIN) > (uint32_t)(SERVO_OUT_MAX - SERVO_OUT_MIN))
         u = u < 0 ? SERVO_OUT_MIN : SERVO_OUT_MAX;
     return (int16_t)u;
+}
+
+static inline __attribute__((always_inline)) int16_t servo_step(servo_state_t *s, const servo_gains_t *g,
+                                                                int32_t e32)
+{
+    return g->full ? servo_step_full(s, g, e32) : servo_step_k(s, g, e32);
 }
 
 #endif
