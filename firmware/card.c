@@ -102,10 +102,12 @@ void axis_set_mode(unsigned n, uint8_t mode)
     axis_t *x = &axes[n];
     x->mode = mode;
     x->ustat = (x->ustat & ~US_MODE_MASK) | mode;
-    if (mode == M_DISABLE)
+    if (mode == M_DISABLE) {
         x->ustat &= ~UB(DR_EN);
-    else
+    } else {
         x->ustat |= UB(DR_EN);
+        meas_cfg[n].failed = 0;                   /* the axis runs: a failure counts again (6.3.8) */
+    }
 #if MAC4_CARD != MAC4_CARD_STP
     /* /EN follows the mode at once (the tick writes only the DAC) */
     x->ctrl = (uint16_t)((x->ctrl & ~AX_CTRL_EN) | (mode != M_DISABLE ? AX_CTRL_EN : 0));

@@ -109,7 +109,8 @@ static int read_raw(unsigned n, uint32_t *raw)
 /* 6.3.8: encoder_f and logo_f, 163 for the next command, disabled without a
  * ramp.  Once: while the axis stays disabled after it, a measurement that
  * keeps failing raises nothing more, so C, DEINIT and new parameters get
- * through; enabled again, the next failure raises it again. */
+ * through; enabled again (axis_set_mode clears `failed`), the next failure
+ * raises it again. */
 void measure_encoder_error(unsigned n)
 {
     if (meas_cfg[n].failed)
@@ -127,8 +128,6 @@ void measure_axis(unsigned n)
         return;                                         /* position reads 0 before INIT (4.9) */
     meas_cfg_t *c = &meas_cfg[n];
     uint32_t raw;
-    if (x->mode != M_DISABLE)
-        c->failed = 0;                                  /* the axis runs: a failure counts again */
     if (read_raw(n, &raw)) {
         measure_encoder_error(n);
         return;

@@ -31,7 +31,8 @@ typedef struct {
     uint8_t path;       /* EXT_*; EXT_NONE for the INC/STP counter and a refused <ea> */
     uint8_t sc;         /* EXT_SSI: right shifts <sc> (4.4.2.2) */
     uint8_t abs;        /* absolute measurement (<et> 2, 4) */
-    uint8_t failed;     /* an encoder error was raised and the axis has not run since (6.3.8) */
+    uint8_t failed;     /* an encoder error was raised and the axis has not run since (6.3.8;
+                         * axis_set_mode clears it when the axis runs again) */
 } meas_cfg_t;
 extern meas_cfg_t meas_cfg[MAC4_NAXES];
 void measure_encoder_error(unsigned n);   /* 6.3.8, once (measure.c) */
@@ -94,8 +95,6 @@ static inline __attribute__((always_inline)) int32_t measure_delta(const axis_t 
 static inline __attribute__((always_inline)) int measure_ssi(axis_t *x, unsigned n, int32_t *dp)
 {
     meas_cfg_t *c = &meas_cfg[n];
-    if (x->mode != M_DISABLE)
-        c->failed = 0;                                  /* the axis runs: a failure counts again */
     for (unsigned i = 0; (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY) && i < 200; i++)
         ;
     uint32_t hi = hal_rd16(AX_REG(n, AX_SSI_HI));
