@@ -86,16 +86,16 @@ int axis_standstill(unsigned n)
 
 /* The only writer of an axis' gains, so that card_servo_general always
  * says which axes need the general filter (interrupts masked: motion_start) */
+#if MAC4_CARD != MAC4_CARD_STP
 void axis_set_gains(unsigned n, const servo_gains_t *g)
 {
     axis_at[n]->gains = *g;
-#if MAC4_CARD != MAC4_CARD_STP
     if (g->full)
         card_servo_general |= (uint8_t)(1u << n);
     else
         card_servo_general &= (uint8_t)~(1u << n);
-#endif
 }
+#endif
 
 void axis_set_mode(unsigned n, uint8_t mode)
 {
@@ -152,8 +152,9 @@ void axis_prepare(unsigned n)
 {
     axis_t *x = &axes[n];
     int32_t et = PAR(n, ET);
-    x->mk = et > 2 ? MK_OTHER : MAC4_CARD == MAC4_CARD_SSI ? MK_SSI : et <= 1 ? MK_COUNTER : MK_OTHER;
     x->linear = PAR(n, SH) == 1;
+    x->mk = et > 2 ? MK_OTHER : MAC4_CARD == MAC4_CARD_SSI ? (et == 2 && x->linear ? MK_SSI_ABS : MK_SSI)
+                   : et <= 1 ? MK_COUNTER : MK_OTHER;
     x->cr = PAR(n, CR);
     x->lp = PAR(n, LP);
     x->ln = PAR(n, LN);
@@ -408,20 +409,21 @@ static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned
     axis_t *x = &axes[n];
     PIN_PTR(x);
     uint8_t mk = x->mk_tick;                      /* MK_NONE before INIT (4.9) */
-    if (mk != MK_NONE) {
+    /* the card's own encoder first: one test on the common path */
 #if MAC4_CARD != MAC4_CARD_SSI
-        if (mk == MK_COUNTER) {                   /* the common case */
-            measure_apply(x, measure_counter(x, n));
-        } else {
+    if (mk == MK_COUNTER) {
+        measure_apply(x, measure_counter(x, n));
 #else
-        if (mk == MK_SSI) {                       /* the encoder at the connector */
-            int32_t d;
-            if (measure_ssi(x, n, &d) == 0)
-                measure_apply(x, d);
-        } else {
+    int32_t d;
+    if (mk == MK_SSI_ABS) {                       /* the encoder at the connector, absolute, linear */
+        if (measure_ssi(x, n, &d, 1) == 0)
+            measure_apply_linear(x, d);
+    } else if (mk == MK_SSI) {                    /* relative, or a circular axis */
+        if (measure_ssi(x, n, &d, 0) == 0)
+            measure_apply(x, d);
 #endif
-            measure_axis(n);                      /* external (measure.c) */
-        }
+    } else if (mk != MK_NONE) {
+        measure_axis(n);                          /* external (measure.c) */
     }
     int16_t u = 0;
     uint8_t mode = x->mode;

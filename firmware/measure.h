@@ -92,7 +92,7 @@ static inline __attribute__((always_inline)) int32_t measure_delta(const axis_t 
  * (AX_CTRL_SSI_SYNC) and the tick came when it was done (TMR_CTRL_SSI_WAIT;
  * the poll is the safety net).  0 and the motion since the last reading, or
  * -1 after an encoder error. */
-static inline __attribute__((always_inline)) int measure_ssi(axis_t *x, unsigned n, int32_t *dp)
+static inline __attribute__((always_inline)) int measure_ssi(axis_t *x, unsigned n, int32_t *dp, int abs_linear)
 {
     meas_cfg_t *c = &meas_cfg[n];
     for (unsigned i = 0; (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY) && i < 200; i++)
@@ -106,7 +106,8 @@ static inline __attribute__((always_inline)) int measure_ssi(axis_t *x, unsigned
         measure_encoder_error(n);
         return -1;
     }
-    int32_t d = measure_delta(x, c, raw);
+    /* abs_linear (MK_SSI_ABS, a constant): measure_delta's first case */
+    int32_t d = abs_linear ? (int32_t)(raw - (uint32_t)x->meas) : measure_delta(x, c, raw);
     x->raw = raw;
     x->counter = raw;
     *dp = d;
@@ -138,6 +139,12 @@ static inline __attribute__((always_inline)) int32_t measure_steps(const axis_t 
 
 /* The motion d into the measured position and the displayed one, which a
  * circular axis keeps in 0 .. <cr>-1 (4.3.1.2).  RAV: card_supervise. */
+static inline __attribute__((always_inline)) void measure_apply_linear(axis_t *x, int32_t d)
+{
+    x->meas = pos_add(x->meas, d);
+    x->pos = pos_add(x->pos, d);
+}
+
 static inline __attribute__((always_inline)) void measure_apply(axis_t *x, int32_t d)
 {
     x->meas = pos_add(x->meas, d);

@@ -240,8 +240,8 @@ void motion_plan_target(unsigned n, uint8_t mode, motion_plan_t *p)
 
 void motion_plan(unsigned n, motion_plan_t *p)
 {
+#if MAC4_CARD != MAC4_CARD_STP                  /* the STP has no servo filter */
     servo_set_gains(&p->gains, PAR(n, GA), PAR(n, ZE), PAR(n, PO), PAR(n, KI), PAR(n, KISC));
-#if MAC4_CARD != MAC4_CARD_STP
     servo_set_limit(&p->gains, PAR(n, SW));      /* <sw>, torque (force) limitation */
 #endif
     /* <trt> in whole sampling periods, rounded up (5.6) */
@@ -256,7 +256,9 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
         motion_hold(n);                          /* no jump when the drive comes on */
         servo_reset(&x->servo);
     }
+#if MAC4_CARD != MAC4_CARD_STP
     axis_set_gains(n, &p->gains);
+#endif
     x->done = 0;
     x->phase = 0;
     x->stop_then = STOP_NONE;
