@@ -496,15 +496,16 @@ static inline __attribute__((always_inline)) void tick(int general)
     card_ticks++;
 }
 
+static void __attribute__((noinline)) tick_k_only(void) { tick(0); }
 static void __attribute__((noinline)) tick_general(void) { tick(1); }
 
+/* two tail calls: each body saves only the registers it uses */
 void fw_isr_tick(void)
 {
-    if (card_servo_general) {
+    if (card_servo_general)
         tick_general();
-        return;
-    }
-    tick(0);
+    else
+        tick_k_only();
 }
 #else
 /* The STP's position counter (steps, or encoder increments with BR closed)
