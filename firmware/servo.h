@@ -69,10 +69,10 @@ int16_t servo_step_full(servo_state_t *s, const servo_gains_t *g, int32_t e);
  *   u  = (u1 + u2 + 128) >> 8, saturated to the output range
  * (tests/unit/test_servo.c holds it bit for bit against that definition in
  * 64 bits).  |ga e| <= 2^18 (e_lim), so |ga ze e'| < 2^26: the K A e' term
- * is 64 gzh e' + floor(gzl e' / 4) in two MULS.W (the second by a byte,
- * the faster), each product within 32 bits; po u1' as hi 256 + lo,
- * 0 <= lo < 256.  Each MULS.W is up to 70
- * cycles on a 68000, so a zero term costs none. */
+ * is 64 gzh e' + floor(gzl e' / 4) in two MULS.W (the second by a byte:
+ * MULS.W takes 38 cycles plus 2 per bit change of its source), each product
+ * within 32 bits; po u1' as hi 256 + lo, 0 <= lo < 256.  Each MULS.W is up
+ * to 70 cycles, so a zero term costs none. */
 static inline __attribute__((always_inline)) int16_t servo_filter(servo_state_t *s, const servo_gains_t *g,
                                                                   int32_t e32)
 {
