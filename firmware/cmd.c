@@ -193,8 +193,14 @@ static int system_change_allowed(unsigned a)
     return !axis_initialised(a) || axes[a].mode == M_DISABLE;
 }
 
+/* Commands run in the main loop only, at level 0: execute_and_respond masks
+ * them and restores level 0 after.  A part of a command that the tick does
+ * not read may run with interrupts enabled between these two. */
+static inline void cmd_unmask(void) { hal_irq_enable_all(); }
+static inline void cmd_remask(void) { (void)hal_irq_save(); }
+
 /* ---- parameter writes ---------------------------------------------------- */
-static int write_param(unsigned a, unsigned p, int32_t v)
+static int write_param_checked(unsigned a, unsigned p, int32_t v)
 {
     if (pdesc[p].kind == PK_SYS && !system_change_allowed(a))
         return ERR_LOGICAL;
@@ -227,6 +233,8 @@ static int write_param(unsigned a, unsigned p, int32_t v)
         wd_last_us = now_us();    /* the watchdog counts from here (only kept while <wd> > 0) */
         break;
     case P_ZP:
+        /* against the measured position and the mode: masked (write_param) */
+        cmd_remask();
         if (!axis_standstill(a))
             return ERR_LOGICAL;   /* 6.3.7: position set only at stand-still */
         if (axis_initialised(a)) {
@@ -236,6 +244,7 @@ static int write_param(unsigned a, unsigned p, int32_t v)
             axis_set_pos(a);
         }
         axes[a].zp_value = v;
+        cmd_unmask();
         break;
     default:
         break;
@@ -249,6 +258,19 @@ static int write_param(unsigned a, unsigned p, int32_t v)
         par_gen[a]++;
     }
     return 0;
+}
+
+/* A parameter write touches what the main loop reads (par_w, par_a, the
+ * watchdog's start, the vector flags): the tick reads no parameter but
+ * <da>'s word in test mode, and an interrupt reads a parameter with one
+ * move, so the checks and the write run with interrupts enabled - but
+ * <zp>'s, which sets <ao> against the measured position and the position. */
+static int write_param(unsigned a, unsigned p, int32_t v)
+{
+    cmd_unmask();
+    int r = write_param_checked(a, p, v);
+    cmd_remask();
+    return r;
 }
 
 /* ---- mode changes (E) ---------------------------------------------------- */
@@ -303,12 +325,6 @@ static int mode_change_check(unsigned a, uint8_t target)
     return 0;
 }
 
-/* Commands run in the main loop only, at level 0: execute_and_respond masks
- * them and restores level 0 after.  A part of a command that the tick does
- * not read may run with interrupts enabled between these two. */
-static inline void cmd_unmask(void) { hal_irq_enable_all(); }
-static inline void cmd_remask(void) { (void)hal_irq_save(); }
-
 static __attribute__((noinline)) int do_execute(unsigned a)
 {
     uint8_t target = axes[a].next_mode;
@@ -316,7 +332,11 @@ static __attribute__((noinline)) int do_execute(unsigned a)
         target = axes[a].mode;
     else if (target == M_BRAKE && axes[a].mode == M_TEST)
         target = M_DISABLE;                       /* 3.5.1: test mode stops by disabling */
+    /* the checks read the mode, the status and the parameters, which only
+     * the main loop writes: unmasked */
+    cmd_unmask();
     int r = mode_change_check(a, target);
+    cmd_remask();
     if (r)
         return r;
     uint8_t mode = target == M_UE ? M_ENABLE : target;
