@@ -341,7 +341,7 @@ static __attribute__((noinline)) int do_execute(unsigned a)
         return r;
     uint8_t mode = target == M_UE ? M_ENABLE : target;
     motion_plan_t plan;
-    motion_plan_target(a, mode, &plan);           /* from the position the supervision last saw */
+    motion_plan_target(a, mode, &plan);           /* masked: a circular axis's from the tick's position */
     /* The activation, <mf> and the gains are read by the main loop only (the
      * tick reads no mode parameter but <da> in test mode, one word): they
      * run with interrupts enabled, between the checks and the commit, which
