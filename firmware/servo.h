@@ -62,6 +62,16 @@ int16_t servo_step_full(servo_state_t *s, const servo_gains_t *g, int32_t e);
 
 #include "mul16.h"
 
+/* e within +-e_lim, one unsigned compare on the common path (0 < e_lim <
+ * 2^15, so e + e_lim wraps only from beyond the limit) */
+static inline __attribute__((always_inline)) int16_t servo_e_limited(const servo_gains_t *g, int32_t e32)
+{
+    int32_t lim = g->e_lim;
+    if ((uint32_t)e32 + (uint32_t)lim > 2u * (uint32_t)lim)
+        return (int16_t)(e32 < 0 ? -lim : lim);
+    return (int16_t)e32;
+}
+
 /* The general filter, inline for the tick (servo_step).  In Q8:
  *   u1 = 64 ga e - floor(ga ze e' / 4) - floor(po u1' / 256), within 2^23;
  *   u2 += floor(r / 2^kisc) of r = residual + ki e', the rest the residual,
@@ -76,8 +86,7 @@ int16_t servo_step_full(servo_state_t *s, const servo_gains_t *g, int32_t e);
 static inline __attribute__((always_inline)) int16_t servo_filter(servo_state_t *s, const servo_gains_t *g,
                                                                   int32_t e32)
 {
-    int32_t lim = g->e_lim;
-    int16_t e = (int16_t)(e32 > lim ? lim : e32 < -lim ? -lim : e32);
+    int16_t e = servo_e_limited(g, e32);
     int16_t ep = s->e_prev;
     int32_t u1 = muls16(g->ga, e) * 64;
     if (g->ze)
@@ -120,8 +129,7 @@ static inline __attribute__((always_inline)) int16_t servo_filter(servo_state_t 
 static inline __attribute__((always_inline)) int16_t servo_step_k(servo_state_t *s, const servo_gains_t *g,
                                                                   int32_t e32)
 {
-    int32_t lim = g->e_lim;
-    int16_t e = (int16_t)(e32 > lim ? lim : e32 < -lim ? -lim : e32);
+    int16_t e = servo_e_limited(g, e32);
     int32_t u1 = muls16(g->ga, e) * 64;
     /* the limits below with one unsigned compare on the common path */
     if ((uint32_t)(u1 + SERVO_U1_MAX) > 2u * SERVO_U1_MAX)
