@@ -354,6 +354,12 @@ static __attribute__((noinline)) int do_execute(unsigned a)
     if (mode != M_DISABLE)
         motion_plan(a, &plan);
     cmd_remask();
+    /* The one thing an interrupt does to an axis' state: a tick that failed
+     * to measure it raised encoder_f and disabled it (6.3.8,
+     * measure_encoder_error).  Met while unmasked, it counts as come first:
+     * the error is not acknowledged (6.3.7), the axis stays disabled. */
+    if (mode != M_DISABLE && (axes[a].ustat & US_ERRORS))
+        return ERR_LOGICAL;
     if (!init)
         axis_prepare(a);
     axes[a].next_mode = NO_MODE;
