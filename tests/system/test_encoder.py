@@ -145,6 +145,28 @@ def test_missing_vme_encoder_reported_once_and_again_when_enabled():
     assert not has(got[-1][2], "init")
 
 
+def test_an_encoder_error_during_e_is_never_overridden_by_it():
+    # E runs parts of its work with interrupts enabled (cmd.c, do_execute); a
+    # tick there that fails to measure the axis raises encoder_f and disables
+    # it (6.3.8).  Whatever the tick's instant, E must not then enable the
+    # axis: it answers "not acknowledged" (163, 6.3.7), or it was done before
+    # the tick and its status shows no error.  The bad value comes at every
+    # offset in a tick period (step 10 us, the stretches are ~100 us).
+    outcomes = set()
+    for k in range(250):
+        r = run([(0, "UWET", 4), (0, "UWEA", 0x330A), (0, "UWEC", 100000), "poke32 0x330A 500",
+                 "poke16 0x3308 0x8000", (0, "INIT"), "run 20", (0, "ME"), (0, "E"), "run 20",
+                 (0, "WAP", 800), (0, "MP"), "run 5", "run-ticks 1", "run %.2f" % (k * 0.01),
+                 "poke32 0x330A 500000", "poke16 0x3308 0x8000", (0, "E"), "run 20", (0, "RBS")])
+        got = r.resps()
+        assert [c for _, c, _ in got[:-2]] == [178, 180, 184, 2, 52, 3, 70, 59], got
+        _, code, st = got[-2]
+        outcomes.add(code)
+        assert code == ERR_LOGICAL or not has(st, "encoder_f"), "offset %.2f ms: E done with %s" % (k * 0.01, got[-2:])
+        assert has(got[-1][2], "encoder_f") and got[-1][2] & 0xFF == MODE["disable"]
+    assert outcomes == {3, ERR_LOGICAL}, outcomes        # both sides of the tick were met
+
+
 def test_encoder_error_over_the_serial_line_can_be_acknowledged():
     # a serial host needs ~21 ms per telegram: with the error raised every tick
     # it never got C and DEINIT through
