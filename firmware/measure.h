@@ -51,7 +51,7 @@ static inline __attribute__((always_inline)) uint32_t gray_to_binary(uint32_t g)
  * with the axis, 0 .. <cr>-1, so the motion since the last reading is the
  * shorter way round (less than half a turn per tick); the measured position
  * runs on across the wrap, the displayed one wraps (measure_axis). */
-static int32_t circular_delta(const axis_t *x, uint32_t raw)
+static inline __attribute__((always_inline)) int32_t circular_delta(const axis_t *x, uint32_t raw)
 {
     int32_t d = (int32_t)(raw - x->counter), half = x->cr >> 1;
     if (d > half)
@@ -149,7 +149,7 @@ static inline __attribute__((always_inline)) void measure_apply(axis_t *x, int32
 {
     x->meas = pos_add(x->meas, d);
     int32_t pos = pos_add(x->pos, d);
-    if (!x->linear) {
+    if (!x->linear && (uint32_t)pos >= (uint32_t)x->cr) {   /* one compare inside 0 .. <cr>-1 */
         while (pos >= x->cr)
             pos -= x->cr;
         while (pos < 0)

@@ -149,8 +149,8 @@ def main():
         creep = "no pulse-count interrupts seen in the creep scenario (moved %s)" % ps.moved(res["creep"])
     print("-- MAC4-STP creep phase: " + creep)
     for card in ("inc", "ssi"):
-        print("-- MAC4-%s servo tick, four axes moving: %d cycles with the default K-only gains, %d with every "
-              "filter term and <sw> (perfscen.FULL_FILTER; budget %d)" % (
+        print("-- MAC4-%s servo tick, four axes moving: %d cycles with the default K-only gains, %d on circular "
+              "axes with every filter term and <sw> (perfscen.full_filter; budget %d)" % (
                   card.upper(), ps.worst(res[card], "timer") or 0, ps.worst(ffil[card], "timer") or 0,
                   ps.BUDGET_SERVO_TICK))
     for card in ("inc", "ssi"):
@@ -197,7 +197,7 @@ def main():
 
     inc = res["inc"]
     perf = {
-        # the worst tick of the scenarios: the default K-only gains, every filter term
+        # the worst tick of the scenarios: the default K-only gains; circular axes, every filter term
         "servo_tick_worst_cycles": max(ps.worst(r, "timer") or 0 for r in (inc, ffil["inc"])),
         "servo_tick_worst_cycles_ssi": max(ps.worst(r, "timer") or 0 for r in (res["ssi"], ffil["ssi"])),
         "servo_tick_worst_cycles_k_only": {c: ps.worst(res[c], "timer") for c in ("inc", "ssi")},

@@ -108,14 +108,31 @@ def moving(card, ms=1000, host_load=True):
 # 0.5, KI 0.02) with a pole and <sw> besides, so that the tick takes the
 # general filter's longest path on every axis (the defaults are K only).
 FULL_FILTER = ("WZE 128", "WPO 10", "WKI 41", "WSW 2000")
+# Circular axes (4.3.1.2), the longer measurement path: the encoder's wrap
+# is the axis', the displayed position kept in 0 .. <cr>-1.  The targets of
+# targets() lie inside <cr> (the INC's shifted by CIRCULAR_SHIFT).
+CIRCULAR = ("UWSH 2", "UWCR 2000000")
+CIRCULAR_SHIFT = {"inc": 100000, "ssi": 0, "stp": 100000}
 
 
-def full_filter(card, ms=1000):
-    """Four axes moving as in moving(), each with FULL_FILTER: the tick's
-    worst case."""
-    lines = setup_lines(card) + enable_lines(card) + move_lines(card, targets(card), extra=FULL_FILTER)
+def configured(card, system=(), mode=(), shift=0, ms=1000):
+    """Four axes moving as in moving(), with the system parameters `system`
+    written before INIT and the mode parameters `mode` before E."""
+    lines = setup_lines(card) + ["wait-display 5 3000"] + ["send %d %s" % (a, c) for a in AXES for c in system]
+    lines += enable_lines(card)[1:]
+    lines += move_lines(card, [t + shift for t in targets(card)], extra=mode)
     lines += window_lines(ms, False, lead_ms=200)
     return "\n".join(lines) + "\n"
+
+
+def circular(card):
+    """moving() on circular axes, the default gains."""
+    return configured(card, system=CIRCULAR, shift=CIRCULAR_SHIFT[card])
+
+
+def full_filter(card):
+    """The tick's worst case: circular axes, every filter term and <sw>."""
+    return configured(card, system=CIRCULAR, mode=FULL_FILTER, shift=CIRCULAR_SHIFT[card])
 
 
 def whole_moves(card, ms=1400):
