@@ -126,6 +126,7 @@ def main():
     whole = {card: ps.run(card, ps.whole_moves(card)) for card in ("inc", "ssi")}
     fly = {card: ps.run(card, ps.on_the_fly(card)) for card in ("inc", "ssi")}
     ffil = {card: ps.run(card, ps.full_filter(card)) for card in ("inc", "ssi")}
+    extf = {card: ps.run(card, ps.external(card, mode=ps.FULL_FILTER)) for card in ("inc", "ssi")}
     res["creep"] = ps.run("stp", ps.creep())
     for card in ("inc", "ssi", "stp"):
         print("-- MAC4-%s, four axes positioning, host sending back to back (moved %s)"
@@ -150,9 +151,10 @@ def main():
     print("-- MAC4-STP creep phase: " + creep)
     for card in ("inc", "ssi"):
         print("-- MAC4-%s servo tick, four axes moving: %d cycles with the default K-only gains, %d on circular "
-              "axes with every filter term and <sw> (perfscen.full_filter; budget %d)" % (
+              "axes with every filter term and <sw> (perfscen.full_filter), %d so with external VME encoders "
+              "(perfscen.external; budget %d)" % (
                   card.upper(), ps.worst(res[card], "timer") or 0, ps.worst(ffil[card], "timer") or 0,
-                  ps.BUDGET_SERVO_TICK))
+                  ps.worst(extf[card], "timer") or 0, ps.BUDGET_SERVO_TICK))
     for card in ("inc", "ssi"):
         print("-- MAC4-%s profile generator, worst SP: %d cycles over whole moves (four axes braking at once), "
               "%d changing course on the fly (budget %d)" % (card.upper(), ps.profile_per_period(whole[card]) or 0,
@@ -197,9 +199,11 @@ def main():
 
     inc = res["inc"]
     perf = {
-        # the worst tick of the scenarios: the default K-only gains; circular axes, every filter term
-        "servo_tick_worst_cycles": max(ps.worst(r, "timer") or 0 for r in (inc, ffil["inc"])),
-        "servo_tick_worst_cycles_ssi": max(ps.worst(r, "timer") or 0 for r in (res["ssi"], ffil["ssi"])),
+        # the worst tick of the scenarios: the default K-only gains; circular axes or external
+        # VME encoders with every filter term
+        "servo_tick_worst_cycles": max(ps.worst(r, "timer") or 0 for r in (inc, ffil["inc"], extf["inc"])),
+        "servo_tick_worst_cycles_ssi": max(ps.worst(r, "timer") or 0 for r in (res["ssi"], ffil["ssi"], extf["ssi"])),
+        "servo_tick_worst_cycles_external_full_filter": {c: ps.worst(extf[c], "timer") for c in extf},
         "servo_tick_worst_cycles_k_only": {c: ps.worst(res[c], "timer") for c in ("inc", "ssi")},
         "servo_tick_worst_cycles_full_filter": {c: ps.worst(ffil[c], "timer") for c in ffil},
         # the worst SP of the scenarios: cruising, whole moves, course changes on the fly

@@ -125,6 +125,21 @@ def configured(card, system=(), mode=(), shift=0, ms=1000):
     return "\n".join(lines) + "\n"
 
 
+def external(card, mode=()):
+    """moving() with each axis measured by an absolute encoder board on the
+    VMEbus (<et> 4, 24 bits at $80C000 + $10 n, 4 000 counts per turn: the
+    manual's 7.2 SSI example has one), which measure_axis reads over the
+    master window in every tick: the external path."""
+    boards = ["vme-encoder $%X %d bits 24 res 4000 turns 0" % (0x80C000 + 0x10 * a, a) for a in AXES]
+    system = []
+    for a in AXES:
+        system += ["send %d UWET 4" % a, "send %d UWEA %d" % (a, 0x80C000 + 0x10 * a), "send %d UWEB 24" % a]
+    lines = boards + ["wait-display 5 3000"] + system + enable_lines(card)[1:]
+    lines += move_lines(card, [t + CIRCULAR_SHIFT[card] for t in targets(card)], extra=mode)
+    lines += window_lines(1000, False, lead_ms=200)
+    return "\n".join(lines) + "\n"
+
+
 def circular(card):
     """moving() on circular axes, the default gains."""
     return configured(card, system=CIRCULAR, shift=CIRCULAR_SHIFT[card])

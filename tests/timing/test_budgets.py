@@ -30,6 +30,10 @@ NOT_YET_MET = {
     ("servo_tick_circular", "ssi"): 5900,  # the same on circular axes
     ("servo_tick_full", "inc"): 6850,      # circular axes, every filter term and <sw> (perfscen.full_filter)
     ("servo_tick_full", "ssi"): 8700,
+    ("servo_tick_external", "inc"): 8250,  # absolute VME encoders (perfscen.external): measure_axis per axis
+    ("servo_tick_external", "ssi"): 8350,
+    ("servo_tick_external_full", "inc"): 11100,
+    ("servo_tick_external_full", "ssi"): 11150,
     ("profile_whole", "inc"): 13200,       # cycles per 10 ms, the SP where four axes brake and land at once; 6000
     ("profile_whole", "ssi"): 13200,
     ("profile_fly", "inc"): 12100,         # the same, four far axes turning round, <pv> lowered
@@ -58,7 +62,8 @@ def scenario(name, card):
         text = {"moving": lambda: ps.moving(card), "idle": lambda: ps.idle(card), "creep": ps.creep,
                 "whole": lambda: ps.whole_moves(card), "commands": lambda: ps.commands(card),
                 "fly": lambda: ps.on_the_fly(card), "full": lambda: ps.full_filter(card),
-                "circular": lambda: ps.circular(card)}[name]()
+                "circular": lambda: ps.circular(card), "external": lambda: ps.external(card),
+                "external_full": lambda: ps.external(card, mode=ps.FULL_FILTER)}[name]()
         _cache[key] = ps.run(card, text)
     return _cache[key]
 
@@ -99,10 +104,12 @@ def test_servo_tick_four_axes_moving(card):
     budget(("servo_tick", card), w, ps.BUDGET_SERVO_TICK, "%s servo tick worst, cycles" % card)
 
 
-# the tick's longer paths: circular axes (the measurement), and with them every
-# filter term and a torque limit (perfscen.full_filter: the worst case)
+# the tick's longer paths: circular axes and external encoders on the VMEbus
+# (the measurement), and with them every filter term and a torque limit
 TICK_CONFIGS = {"circular": ("servo_tick_circular", "circular axes"),
-                "full": ("servo_tick_full", "circular axes, full filter")}
+                "full": ("servo_tick_full", "circular axes, full filter"),
+                "external": ("servo_tick_external", "external VME encoders"),
+                "external_full": ("servo_tick_external_full", "external VME encoders, full filter")}
 
 
 @pytest.mark.parametrize("card", ["inc", "ssi"])
