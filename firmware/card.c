@@ -423,7 +423,7 @@ static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned
             measure_apply(x, d);
 #endif
     } else if (mk != MK_NONE) {
-        measure_axis(n);                          /* external (measure.c) */
+        measure_ext(x, &meas_cfg[n], n);          /* <et> 3/4 (measure.h) */
     }
     int16_t u = 0;
     uint8_t mode = x->mode;
@@ -518,7 +518,7 @@ static inline __attribute__((always_inline)) void stp_tick_measure(unsigned n)
     if (mk == MK_COUNTER)
         measure_apply(x, measure_steps(x, n, measure_counter(x, n)));
     else if (mk != MK_NONE)                       /* MK_NONE: position reads 0 before INIT (4.9) */
-        measure_axis(n);                          /* external (measure.c) */
+        measure_ext(x, &meas_cfg[n], n);          /* <et> 3/4 (measure.h) */
 }
 
 void fw_isr_tick(void)

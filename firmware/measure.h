@@ -8,8 +8,7 @@
 #include "stepper.h"
 #endif
 
-void measure_axis(unsigned n);     /* tick: an external position (<et> 3/4); the counter and
-                                    * the SSI encoder are measure_counter/measure_ssi inline */
+void measure_axis(unsigned n);     /* an external position (<et> 3/4), for a variable axis */
 void measure_init(unsigned n);     /* INIT: derive <ea>/<eb>/<ec>, zero relative position */
 /* May an external position (<et> 3/4) be read at <ea> with <eb> significant
  * bits (eb 0: not known yet)?  The rule of docs/interpretations.md. */
@@ -36,6 +35,9 @@ typedef struct {
 } meas_cfg_t;
 extern meas_cfg_t meas_cfg[MAC4_NAXES];
 void measure_encoder_error(unsigned n);   /* 6.3.8, once (measure.c) */
+/* The tick's external measurement (MK_OTHER), out of line so that the tick's
+ * common paths keep their registers; the pointers are the tick's constants. */
+void measure_ext(axis_t *x, meas_cfg_t *c, unsigned n);
 
 static inline __attribute__((always_inline)) uint32_t gray_to_binary(uint32_t g)
 {
@@ -156,6 +158,70 @@ static inline __attribute__((always_inline)) void measure_apply(axis_t *x, int32
             pos += x->cr;
     }
     x->pos = pos;
+}
+
+/* An external position (<et> 3/4, 3.5.2, 4.4.2.1) where INIT found it
+ * (meas_cfg.path): 0 and the value, or -1 when the measurement failed. */
+static inline __attribute__((always_inline)) int measure_ext_read(axis_t *x, unsigned n, const meas_cfg_t *c,
+                                                                 uint32_t *raw)
+{
+    uint32_t v;
+    switch (c->path) {
+    case EXT_DPRAM:                                     /* external, via the DPRAM (3.5.2) */
+        if (hal_rd16(c->addr - 2u) & 0x8000u) {
+            x->raw = hal_rd32(c->addr);
+            hal_wr16(c->addr - 2u, 0);                  /* the host may write the next one */
+            vme_irq((uint8_t)PAR(n, IRQ6));
+        }
+        *raw = x->raw;
+        return 0;
+    case EXT_VME16:                                     /* external over the VMEbus, A24 window */
+        hal_wr16(VME_PAGE, c->page);
+        v = hal_rd16(c->addr);
+        break;
+    case EXT_VME32: {                                   /* LSW at <ea>+2 first (4.4.2.1) */
+        hal_wr16(VME_PAGE, c->page);
+        uint32_t lsw = hal_rd16(c->addr + 2u);
+        v = ((uint32_t)hal_rd16(c->addr) << 16) | lsw;
+        break;
+    }
+    default:
+        return -1;                                      /* no address INIT accepted: touch nothing */
+    }
+    if (hal_rd16(VME_STATUS) & VME_ST_BERR)
+        return -1;
+    *raw = v;
+    return 0;
+}
+
+/* The tick's measurement of an external position (MK_OTHER): measure_ext()
+ * with the axis' pointers, which the tick has as constants; measure_axis()
+ * for a variable axis. */
+static inline __attribute__((always_inline)) void measure_external(axis_t *x, meas_cfg_t *c, unsigned n)
+{
+    uint32_t raw;
+    if (measure_ext_read(x, n, c, &raw)) {
+        measure_encoder_error(n);
+        return;
+    }
+    raw &= c->mask;
+    if (raw > c->lim) {                                 /* beyond <ec> (4.4.2.1, 6.3.8) */
+        x->raw = raw;                                   /* RED shows what was read */
+        measure_encoder_error(n);
+        return;
+    }
+#if MAC4_CARD == MAC4_CARD_STP
+    /* absolute: the reading against the counter in its increments */
+    int32_t d = c->abs ? (int32_t)(raw - (uint32_t)stp_counts(n)) : measure_delta(x, c, raw);
+#else
+    int32_t d = measure_delta(x, c, raw);
+#endif
+    x->raw = raw;
+    x->counter = raw;
+#if MAC4_CARD == MAC4_CARD_STP
+    d = measure_steps(x, n, d);
+#endif
+    measure_apply(x, d);
 }
 
 #endif

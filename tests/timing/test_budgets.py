@@ -30,10 +30,10 @@ NOT_YET_MET = {
     ("servo_tick_circular", "ssi"): 5900,  # the same on circular axes
     ("servo_tick_full", "inc"): 6850,      # circular axes, every filter term and <sw> (perfscen.full_filter)
     ("servo_tick_full", "ssi"): 8700,
-    ("servo_tick_external", "inc"): 8250,  # absolute VME encoders (perfscen.external): measure_axis per axis
-    ("servo_tick_external", "ssi"): 8350,
-    ("servo_tick_external_full", "inc"): 11100,
-    ("servo_tick_external_full", "ssi"): 11150,
+    ("servo_tick_external", "inc"): 5900,  # absolute VME encoders (perfscen.external): measure_ext per axis
+    ("servo_tick_external", "ssi"): 6050,
+    ("servo_tick_external_full", "inc"): 8750,
+    ("servo_tick_external_full", "ssi"): 8850,
     ("profile_whole", "inc"): 13200,       # cycles per 10 ms, the SP where four axes brake and land at once; 6000
     ("profile_whole", "ssi"): 13200,
     ("profile_fly", "inc"): 12100,         # the same, four far axes turning round, <pv> lowered
