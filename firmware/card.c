@@ -417,7 +417,7 @@ static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned
     int32_t d;
     if (mk == MK_SSI_ABS) {                       /* the encoder at the connector, absolute, linear */
         if (measure_ssi(x, n, &d, 1) == 0)
-            measure_apply_linear(x, d);
+            measure_apply_k(x, d, 1);
     } else if (mk == MK_SSI) {                    /* relative, or a circular axis */
         if (measure_ssi(x, n, &d, 0) == 0)
             measure_apply(x, d);

@@ -54,6 +54,39 @@ int measure_ea_ok(uint32_t ea, int32_t eb)
     return eb <= 16 || (ea & (VME_WIN_SIZE - 1u)) <= VME_WIN_SIZE - 4u;
 }
 
+/* An external position (<et> 3/4, 3.5.2, 4.4.2.1) where INIT found it
+ * (meas_cfg.path): 0 and the value, or -1 when the measurement failed. */
+static inline __attribute__((always_inline)) int ext_read(axis_t *x, unsigned n, const meas_cfg_t *c, uint32_t *raw)
+{
+    uint32_t v;
+    switch (c->path) {
+    case EXT_DPRAM:                                     /* external, via the DPRAM (3.5.2) */
+        if (hal_rd16(c->addr - 2u) & 0x8000u) {
+            x->raw = hal_rd32(c->addr);
+            hal_wr16(c->addr - 2u, 0);                  /* the host may write the next one */
+            vme_irq((uint8_t)PAR(n, IRQ6));
+        }
+        *raw = x->raw;
+        return 0;
+    case EXT_VME16:                                     /* external over the VMEbus, A24 window */
+        hal_wr16(VME_PAGE, c->page);
+        v = hal_rd16(c->addr);
+        break;
+    case EXT_VME32: {                                   /* LSW at <ea>+2 first (4.4.2.1) */
+        hal_wr16(VME_PAGE, c->page);
+        uint32_t lsw = hal_rd16(c->addr + 2u);
+        v = ((uint32_t)hal_rd16(c->addr) << 16) | lsw;
+        break;
+    }
+    default:
+        return -1;                                      /* no address INIT accepted: touch nothing */
+    }
+    if (hal_rd16(VME_STATUS) & VME_ST_BERR)
+        return -1;
+    *raw = v;
+    return 0;
+}
+
 /* Returns 0 and the raw value, or -1 when the measurement failed. */
 static int read_raw(unsigned n, uint32_t *raw)
 {
@@ -75,7 +108,7 @@ static int read_raw(unsigned n, uint32_t *raw)
         *raw = v;
         return 0;
     }
-    return measure_ext_read(&axes[n], n, &meas_cfg[n], raw);
+    return ext_read(&axes[n], n, &meas_cfg[n], raw);
 }
 
 
@@ -95,13 +128,35 @@ void measure_encoder_error(unsigned n)
 
 void measure_ext(axis_t *x, meas_cfg_t *c, unsigned n)
 {
-    measure_external(x, c, n);
+    uint32_t raw;
+    if (ext_read(x, n, c, &raw)) {
+        measure_encoder_error(n);
+        return;
+    }
+    raw &= c->mask;
+    if (raw > c->lim) {                                 /* beyond <ec> (4.4.2.1, 6.3.8) */
+        x->raw = raw;                                   /* RED shows what was read */
+        measure_encoder_error(n);
+        return;
+    }
+#if MAC4_CARD == MAC4_CARD_STP
+    /* absolute: the reading against the counter in its increments */
+    int32_t d = c->abs ? (int32_t)(raw - (uint32_t)stp_counts(n)) : measure_delta(x, c, raw);
+#else
+    int32_t d = measure_delta(x, c, raw);
+#endif
+    x->raw = raw;
+    x->counter = raw;
+#if MAC4_CARD == MAC4_CARD_STP
+    d = measure_steps(x, n, d);
+#endif
+    measure_apply(x, d);
 }
 
 void measure_axis(unsigned n)
 {
     if (axis_initialised(n))                            /* position reads 0 before INIT (4.9) */
-        measure_external(axis_at[n], &meas_cfg[n], n);
+        measure_ext(axis_at[n], &meas_cfg[n], n);
 }
 
 void measure_init(unsigned n)

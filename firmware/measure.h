@@ -52,7 +52,7 @@ static inline __attribute__((always_inline)) uint32_t gray_to_binary(uint32_t g)
 /* An absolute encoder on a circular axis (4.3.1.2): the reading goes round
  * with the axis, 0 .. <cr>-1, so the motion since the last reading is the
  * shorter way round (less than half a turn per tick); the measured position
- * runs on across the wrap, the displayed one wraps (measure_axis). */
+ * runs on across the wrap, the displayed one wraps (measure_apply). */
 static inline __attribute__((always_inline)) int32_t circular_delta(const axis_t *x, uint32_t raw)
 {
     int32_t d = (int32_t)(raw - x->counter), half = x->cr >> 1;
@@ -67,11 +67,13 @@ static inline __attribute__((always_inline)) int32_t circular_delta(const axis_t
  * for every system: absolute on a linear axis the reading is the position;
  * on a circular one the encoder's wrap is the axis' (4.3.1.2); relative,
  * the counter wraps at <ec> or at 2^<eb> (table 4.3; less than half of it
- * per tick).  The STP's absolute systems count in increments (measure_axis). */
-static inline __attribute__((always_inline)) int32_t measure_delta(const axis_t *x, const meas_cfg_t *c,
-                                                                   uint32_t raw)
+ * per tick).  The STP's absolute systems count in increments (measure_ext).
+ * abs_linear, a constant: the caller knows the axis is absolute and linear
+ * (MK_SSI_ABS), so none of the tests is made. */
+static inline __attribute__((always_inline)) int32_t measure_delta_k(const axis_t *x, const meas_cfg_t *c,
+                                                                     uint32_t raw, int abs_linear)
 {
-    if (c->abs && x->linear)
+    if (abs_linear || (c->abs && x->linear))
         return (int32_t)(raw - (uint32_t)x->meas);
     if (c->abs)
         return circular_delta(x, raw);
@@ -87,6 +89,12 @@ static inline __attribute__((always_inline)) int32_t measure_delta(const axis_t 
     if (u & c->sign)
         u |= ~c->mask;
     return (int32_t)u;
+}
+
+static inline __attribute__((always_inline)) int32_t measure_delta(const axis_t *x, const meas_cfg_t *c,
+                                                                   uint32_t raw)
+{
+    return measure_delta_k(x, c, raw, 0);
 }
 
 /* SSI at the connector, everything prepared at INIT (the tick's path and
@@ -108,8 +116,7 @@ static inline __attribute__((always_inline)) int measure_ssi(axis_t *x, unsigned
         measure_encoder_error(n);
         return -1;
     }
-    /* abs_linear (MK_SSI_ABS, a constant): measure_delta's first case */
-    int32_t d = abs_linear ? (int32_t)(raw - (uint32_t)x->meas) : measure_delta(x, c, raw);
+    int32_t d = measure_delta_k(x, c, raw, abs_linear);
     x->raw = raw;
     x->counter = raw;
     *dp = d;
@@ -140,18 +147,13 @@ static inline __attribute__((always_inline)) int32_t measure_steps(const axis_t 
 #endif
 
 /* The motion d into the measured position and the displayed one, which a
- * circular axis keeps in 0 .. <cr>-1 (4.3.1.2).  RAV: card_supervise. */
-static inline __attribute__((always_inline)) void measure_apply_linear(axis_t *x, int32_t d)
-{
-    x->meas = pos_add(x->meas, d);
-    x->pos = pos_add(x->pos, d);
-}
-
-static inline __attribute__((always_inline)) void measure_apply(axis_t *x, int32_t d)
+ * circular axis keeps in 0 .. <cr>-1 (4.3.1.2).  RAV: card_supervise.
+ * linear, a constant: the caller knows the axis is linear (MK_SSI_ABS). */
+static inline __attribute__((always_inline)) void measure_apply_k(axis_t *x, int32_t d, int linear)
 {
     x->meas = pos_add(x->meas, d);
     int32_t pos = pos_add(x->pos, d);
-    if (!x->linear && (uint32_t)pos >= (uint32_t)x->cr) {   /* one compare inside 0 .. <cr>-1 */
+    if (!linear && !x->linear && (uint32_t)pos >= (uint32_t)x->cr) {   /* one compare inside 0 .. <cr>-1 */
         while (pos >= x->cr)
             pos -= x->cr;
         while (pos < 0)
@@ -160,68 +162,6 @@ static inline __attribute__((always_inline)) void measure_apply(axis_t *x, int32
     x->pos = pos;
 }
 
-/* An external position (<et> 3/4, 3.5.2, 4.4.2.1) where INIT found it
- * (meas_cfg.path): 0 and the value, or -1 when the measurement failed. */
-static inline __attribute__((always_inline)) int measure_ext_read(axis_t *x, unsigned n, const meas_cfg_t *c,
-                                                                 uint32_t *raw)
-{
-    uint32_t v;
-    switch (c->path) {
-    case EXT_DPRAM:                                     /* external, via the DPRAM (3.5.2) */
-        if (hal_rd16(c->addr - 2u) & 0x8000u) {
-            x->raw = hal_rd32(c->addr);
-            hal_wr16(c->addr - 2u, 0);                  /* the host may write the next one */
-            vme_irq((uint8_t)PAR(n, IRQ6));
-        }
-        *raw = x->raw;
-        return 0;
-    case EXT_VME16:                                     /* external over the VMEbus, A24 window */
-        hal_wr16(VME_PAGE, c->page);
-        v = hal_rd16(c->addr);
-        break;
-    case EXT_VME32: {                                   /* LSW at <ea>+2 first (4.4.2.1) */
-        hal_wr16(VME_PAGE, c->page);
-        uint32_t lsw = hal_rd16(c->addr + 2u);
-        v = ((uint32_t)hal_rd16(c->addr) << 16) | lsw;
-        break;
-    }
-    default:
-        return -1;                                      /* no address INIT accepted: touch nothing */
-    }
-    if (hal_rd16(VME_STATUS) & VME_ST_BERR)
-        return -1;
-    *raw = v;
-    return 0;
-}
-
-/* The tick's measurement of an external position (MK_OTHER): measure_ext()
- * with the axis' pointers, which the tick has as constants; measure_axis()
- * for a variable axis. */
-static inline __attribute__((always_inline)) void measure_external(axis_t *x, meas_cfg_t *c, unsigned n)
-{
-    uint32_t raw;
-    if (measure_ext_read(x, n, c, &raw)) {
-        measure_encoder_error(n);
-        return;
-    }
-    raw &= c->mask;
-    if (raw > c->lim) {                                 /* beyond <ec> (4.4.2.1, 6.3.8) */
-        x->raw = raw;                                   /* RED shows what was read */
-        measure_encoder_error(n);
-        return;
-    }
-#if MAC4_CARD == MAC4_CARD_STP
-    /* absolute: the reading against the counter in its increments */
-    int32_t d = c->abs ? (int32_t)(raw - (uint32_t)stp_counts(n)) : measure_delta(x, c, raw);
-#else
-    int32_t d = measure_delta(x, c, raw);
-#endif
-    x->raw = raw;
-    x->counter = raw;
-#if MAC4_CARD == MAC4_CARD_STP
-    d = measure_steps(x, n, d);
-#endif
-    measure_apply(x, d);
-}
+static inline __attribute__((always_inline)) void measure_apply(axis_t *x, int32_t d) { measure_apply_k(x, d, 0); }
 
 #endif
