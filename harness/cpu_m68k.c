@@ -181,6 +181,7 @@ static cyc_t m68k_cpu_execute(sim_t *s, cyc_t max)
     in_slice = 1;
     profile_slice_start();
     int ran = m68k_execute((int)max);
+    profile_slice_end(ran);
     in_slice = 0;
     return (cyc_t)ran;
 }

@@ -2,13 +2,17 @@
  * profile.c - where the 68000's cycles go, measured by the emulator (no
  * firmware instrumentation): every instruction's cycles are charged to the
  * function that contains it, using the symbol table the build writes
- * (build/eprom/mac4-CARD.sym, from nm).  `profile on|off|report [N]`.
+ * (build/eprom/mac4-CARD.sym, from nm).  `profile on|off|reset|report [N]`,
+ * and `profile pcs FILE`: the same cycles per instruction address of the
+ * EPROM, for tools/annotate.py to lay beside the disassembly (the firmware
+ * inlines most of its hot paths, so a function is often too coarse).
  */
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include "m68k.h"
 #include "profile.h"
+#include "mac4_map.h"
 
 int mac4_profiling;
 
@@ -23,6 +27,8 @@ static unsigned nsyms;
 static uint32_t last_pc;
 static int last_cycles;
 static int have_last;
+/* per instruction of the EPROM (even addresses): cycles and executions */
+static uint64_t pc_cycles[EPROM_SIZE / 2], pc_count[EPROM_SIZE / 2];
 
 static int by_addr(const void *a, const void *b)
 {
@@ -98,13 +104,10 @@ int profile_symbol(const char *name, uint32_t *addr)
     return -1;
 }
 
-void mac4_profile_instr(unsigned pc)
+/* The cycles from the last instruction seen up to now go to it (and an
+ * interrupt's acknowledge to the instruction it followed). */
+static void charge(int now)
 {
-    if (instr_hook)
-        instr_hook(pc);
-    if (!accounting)
-        return;
-    int now = m68k_cycles_run();
     if (have_last && now >= last_cycles) {
         psym_t *s = find(last_pc);
         if (s) {
@@ -112,13 +115,36 @@ void mac4_profile_instr(unsigned pc)
             if (last_pc == s->addr)
                 s->calls++;
         }
+        uint32_t off = last_pc - EPROM_BASE;
+        if (off < EPROM_SIZE) {
+            pc_cycles[off / 2] += (uint64_t)(now - last_cycles);
+            pc_count[off / 2]++;
+        }
     }
+}
+
+void mac4_profile_instr(unsigned pc)
+{
+    if (instr_hook)
+        instr_hook(pc);
+    if (!accounting)
+        return;
+    int now = m68k_cycles_run();
+    charge(now);
     last_pc = pc;
     last_cycles = now;
     have_last = 1;
 }
 
 void profile_slice_start(void) { have_last = 0; }
+
+/* The slice's last instruction, which no next hook call closes. */
+void profile_slice_end(int ran)
+{
+    if (accounting)
+        charge(ran);
+    have_last = 0;
+}
 
 void profile_set(int on)
 {
@@ -131,6 +157,20 @@ void profile_reset(void)
 {
     for (unsigned i = 0; i < nsyms; i++)
         syms[i].cycles = syms[i].calls = 0;
+    memset(pc_cycles, 0, sizeof pc_cycles);
+    memset(pc_count, 0, sizeof pc_count);
+}
+
+int profile_pcs(const char *path)
+{
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return -1;
+    for (uint32_t i = 0; i < EPROM_SIZE / 2; i++)
+        if (pc_count[i])
+            fprintf(f, "%06x %llu %llu\n", (unsigned)(EPROM_BASE + 2 * i), (unsigned long long)pc_cycles[i],
+                    (unsigned long long)pc_count[i]);
+    return fclose(f) ? -1 : 0;
 }
 
 static int by_cycles(const void *a, const void *b)

@@ -5,7 +5,9 @@ int profile_load_symbols(const char *path);   /* nm output; returns the count or
 void profile_set(int on);
 void profile_reset(void);
 void profile_slice_start(void);
+void profile_slice_end(int ran);             /* ran: the slice's cycles (m68k_execute) */
 void profile_report(FILE *out, unsigned top);
+int profile_pcs(const char *path);            /* per instruction: "pc cycles count"; 0 or -1 */
 /* for harness/perf.c */
 #include <stdint.h>
 void profile_set_hook(void (*hook)(unsigned pc));          /* NULL: none */

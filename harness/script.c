@@ -194,7 +194,12 @@ int script_line(script_t *sc, sim_t *s, char *line)
             profile_report(s->out, (unsigned)top);
             return 0;
         }
-        return script_err(sc, "usage: %s on|off|reset|report [N]", c);
+        if (n == 3 && !strcmp(tok[1], "pcs")) {
+            if (profile_pcs(tok[2]))
+                return script_err(sc, "profile pcs: cannot write '%s'", tok[2]);
+            return 0;
+        }
+        return script_err(sc, "usage: %s on|off|reset|report [N]|pcs FILE", c);
     }
     if (!strcmp(c, "irqstats")) {
         irq_print_table(s, s->out);

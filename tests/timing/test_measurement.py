@@ -42,3 +42,20 @@ def test_probe_and_passes():
     assert r["period"][ps.PROFILE_PROBE]["count"] in (10, 11), "one profile period per 10 ms"
     assert r["pass"]["idle"]["count"] > 10 and r["pass"]["idle"]["min"] > 0
     assert r["load"]["tracked"] == 1 and 0 < r["load"]["total"] < 100
+
+
+def test_profile_per_instruction_adds_up_and_counts_executions(tmp_path):
+    # profile pcs: every instruction's cycles, the same cycles profile report
+    # charges to functions; the EPROM check sum's loop runs once per word,
+    # exactly (the instruction that ends a scheduler slice counts too)
+    pcs = tmp_path / "boot.pcs"
+    r = ps.run("inc", "profile on\nwait-display 5 3000\nprofile off\nprofile pcs %s\nprofile report 500\n" % pcs)
+    by_func = sum(int(l.split()[2]) for l in r["lines"] if l.startswith("profile ") and l.split()[2].isdigit())
+    rows = [l.split() for l in open(pcs)]
+    assert rows and all(int(a, 16) % 2 == 0 and int(c) > 0 and int(k) > 0 for a, c, k in rows)
+    assert sum(int(c) for _, c, _ in rows) == by_func
+    out = ps.subprocess.run([sys.executable, os.path.join(ps.ROOT, "tools", "annotate.py"), "inc", str(pcs),
+                             "--func", "fw_init"], capture_output=True, text=True, check=True).stdout
+    words = (ps.BUDGET_IMAGE_BYTES - 4) // 2
+    loop = [l for l in out.splitlines()[:-1] if int(l.split()[1]) == words]
+    assert len(loop) >= 8, "the check sum's loop, once per EPROM word:\n" + out
