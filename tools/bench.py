@@ -170,6 +170,10 @@ def main():
     print("-- MAC4-INC idle card (axes enabled at rest), host back to back: latency max %.2f ms, mean %.2f ms"
           % (ps.latency_ms(res["idle"]) or 0, res["idle"]["latency"].get("mean_us", 0) / 1000.0))
 
+    boot = {card: ps.boot_ms(card) for card in ("inc", "ssi", "stp")}
+    print("-- boot, reset to display $5 (RAM test, EPROM check sum): %s"
+          % ", ".join("MAC4-%s %.0f ms" % (c.upper(), boot[c] or 0) for c in boot))
+
     print("== memory")
     images, stacks = {}, {}
     for card in ("inc", "ssi", "stp"):
@@ -226,6 +230,7 @@ def main():
         "emulated_per_wall": round(full, 2),
         "bare_emulated_per_wall": round(bare, 2),
         "harness_overhead_ratio": round(bare / full, 3),
+        "boot_ms": boot,
         "image_bytes": images,
         "ram_stack_bytes": max(s["ram_stack_bytes"] for s in stacks.values()),
         "ram_stack_bytes_per_card": {c: s["ram_stack_bytes"] for c, s in stacks.items()},

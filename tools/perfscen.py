@@ -238,6 +238,22 @@ def creep(ms=1500):
     return "\n".join(lines) + "\n"
 
 
+# Boot (display $1 .. $5, manual 2.5.2): the RAM test and the EPROM check sum
+# take nearly all of it.  Not a budget of issue 6: a guard that the figure
+# (docs/performance.md, "Boot") does not creep back.
+BOOT_GUARD_MS = 600.0
+
+
+def boot_ms(card):
+    """Emulated time from reset to display $5 (the card ready), ms."""
+    r = run(card, "wait-display 5 3000\nstatus\n")
+    for line in r["lines"]:
+        m = re.match(r"status time=([0-9.]+)ms .*display=5", line)
+        if m:
+            return float(m.group(1))
+    return None
+
+
 KV = re.compile(r"(\w+)=(\S+)")
 
 

@@ -10,7 +10,7 @@ W_KERNEL(crc16)
     for (unsigned i = 0; i < 256; i += 8) {
         w_begin("crc16", "table", i);
         for (unsigned k = 0; k < 8; k++)
-            w_u32(crc16_table[i + k]);
+            w_u32(crc16_entry(i + k));
         w_end();
     }
     /* the standard check value of CRC-16/CCITT-FALSE is $29B1 */
