@@ -238,6 +238,17 @@ def creep(ms=1500):
     return "\n".join(lines) + "\n"
 
 
+def creep_starts(ms=1500):
+    """MAC4-STP: four moves of the same length (400 steps, two each way) that
+    end in the creep phase, started inside the window: the four start in one
+    SP and their creep phases begin in one tick (creep_begin on every axis),
+    the STP tick's longest path."""
+    lines = enable_lines("stp") + positions_lines() + ["perf track on", "perf quiet on", "perf reset"]
+    lines += move_lines("stp", [400, -400, 400, -400], extra=("WSTC 20", "WLV 100"))
+    lines += ["run %d" % ms, "perf quiet off", "perf report"] + positions_lines()
+    return "\n".join(lines) + "\n"
+
+
 # Boot (display $1 .. $5, manual 2.5.2): the RAM test and the EPROM check sum
 # take nearly all of it.  Not a budget of issue 6: a guard that the figure
 # (docs/performance.md, "Boot") does not creep back.
