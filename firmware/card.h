@@ -100,6 +100,12 @@ typedef struct {
  * modulo 2^32, without C's undefined signed overflow. */
 static inline int32_t pos_sub(int32_t a, int32_t b) { return (int32_t)((uint32_t)a - (uint32_t)b); }
 static inline int32_t pos_add(int32_t a, int32_t b) { return (int32_t)((uint32_t)a + (uint32_t)b); }
+/* A Q16 position as the tick's integer part and fraction. */
+static inline void split_q16(int64_t q, int32_t *i, uint16_t *f)
+{
+    *i = (int32_t)(q >> 16);
+    *f = (uint16_t)q;
+}
 
 extern axis_t axes[MAC4_NAXES];
 /* &axes[n] by a table: sizeof(axis_t) is no power of two, and the 68000

@@ -7,9 +7,11 @@
  *                         velocities of what it changed (vq_compute)
  *   motion_profile_tick() once per SP, in the main loop: the profile generator
  *                         prepares the NEXT SP's segment (nx_*); the tick
- *                         takes it over at the SP boundary (motion_segment)
- *   motion_servo_tick()   every tick: setpoint interpolation, protective
- *                         reactions, position controller -> output value
+ *                         takes it over at the SP boundary (card.c: take_row,
+ *                         STP stp_take_segment)
+ *   motion_supervise()    after every tick, in the main loop: the protective
+ *                         reactions (the tick itself - setpoint, filter or
+ *                         step rate, output - is card.c's, four axes inlined)
  *
  * Everything runs in the measurement frame (position without <ao>), in Q16.
  */
@@ -115,13 +117,6 @@ static int64_t target_of(unsigned n, int32_t user)
 
 static int at_rest(const axis_t *x) { return x->prof.vel == 0 && !x->braking; }
 
-/* A Q16 position as the tick's integer part and fraction. */
-static void split_q16(int64_t q, int32_t *i, uint16_t *f)
-{
-    *i = (int32_t)(q >> 16);
-    *f = (uint16_t)q;
-}
-
 static void arm_index(unsigned n)
 {
     axes[n].idx_seen = 0;
@@ -202,34 +197,6 @@ void motion_brake(unsigned n)
     brake_now(axis_at[n], axis_at[n]->q_pd);
 }
 
-/* Tick side, at each SP boundary (STP; INC/SSI swap setpoint rows in
- * card.c, take_row): take the segment the main loop prepared, split into
- * 32-bit parts, which the tick interpolates in Q16 for the step rate, or
- * hold at the end of the last one.  No 64-bit arithmetic here. */
-#if MAC4_CARD == MAC4_CARD_STP
-int motion_segment(unsigned n)
-{
-    axis_t *x = axis_at[n];
-    PIN_PTR(x);
-    if (x->braking)
-        return 0;                                /* the tick brakes by itself */
-    if (x->nx_ready) {
-        x->start_i = x->nx_start_i;
-        x->start_f = x->nx_start_f;
-        x->st_i = x->nx_st_i;
-        x->st_f = x->nx_st_f;
-        x->end_i = x->nx_end_i;
-        x->end_f = x->nx_end_f;
-        x->nx_ready = 0;
-        return 0;
-    }
-    x->start_i = x->end_i;
-    x->start_f = x->end_f;
-    x->st_i = 0;
-    x->st_f = 0;
-    return x->mode != M_DISABLE && x->mode != M_TEST;
-}
-#endif
 
 uint8_t motion_vq_due;      /* axes whose velocities motion_after_command computes */
 
@@ -688,55 +655,6 @@ static void profile_modes(unsigned n)
         next_segment(x, before);
 }
 
-/* ---- every servo tick ----------------------------------------------------
- * INC/SSI: the tick's setpoint, filter and output are in card.c (tick_axis),
- * four times inlined.  STP: here, with the step-rate stage of stepper.c. */
-#if MAC4_CARD == MAC4_CARD_STP
-int16_t motion_servo_tick(unsigned n, unsigned phase)
-{
-    axis_t *x = axis_at[n];
-    PIN_PTR(x);
-    if (x->mode == M_DISABLE) {
-        x->setpoint = x->meas;
-        x->ferr = 0;
-        return 0;
-    }
-    if (x->mode == M_TEST)
-        return (int16_t)PAR(n, DA);
-
-    /* Setpoint: the SP segment in four steps, integer + Q16 fraction in 32
-     * bits; the segment's start and end are taken exactly from the profile. */
-    int32_t old_i = x->sp_i;
-    uint16_t old_f = x->sp_f;
-    if (x->braking) {                            /* a stop that cannot wait for the next SP */
-        int32_t v = x->br_v, dv = x->br_dec;
-        if (v > 0)
-            v = v > dv ? v - dv : 0;
-        else if (v < 0)
-            v = v < -dv ? v + dv : 0;
-        if (v <= x->br_ssf && v >= -x->br_ssf)
-            v = 0;                               /* from <ssf> or less a stepper stops at once (5.14) */
-        x->br_v = v;
-        x->br_pos += v;
-        split_q16(x->br_pos, &x->sp_i, &x->sp_f);
-    } else if (phase == 3) {
-        x->sp_i = x->end_i;
-        x->sp_f = x->end_f;
-    } else {
-        if (phase == 0) {
-            x->sp_i = x->start_i;
-            x->sp_f = x->start_f;
-        }
-        uint32_t f = (uint32_t)x->sp_f + x->st_f;
-        x->sp_i = pos_add(pos_add(x->sp_i, x->st_i), (int32_t)(f >> 16));
-        x->sp_f = (uint16_t)f;
-    }
-    x->setpoint = pos_add(x->sp_i, x->sp_f >= 0x8000u);
-    x->ferr = pos_sub(x->setpoint, x->meas);
-    stp_servo(x, n, phase, old_i, old_f);        /* step rate, creep phase, RFE (stepper.h) */
-    return 0;   /* the step rate goes out in axis_output (stp_output) */
-}
-#endif
 
 /* ---- after every tick, in the main loop --------------------------------
  * What the tick measured, checked before the main loop does anything else

@@ -683,9 +683,13 @@ void stp_trim(unsigned n)
 }
 
 /* stp_servo (stepper.h) in every case: creep and trim, a new direction,
- * stand-still, a jump. */
-void stp_servo_full(axis_t *x, unsigned n, unsigned phase, int32_t old_i, uint16_t old_f)
+ * stand-still, a jump.  One copy per axis (stp_servo_full_0..3), so that
+ * the axis, its stp_t and its registers are constants: the tick in which
+ * four creep phases begin runs four of them. */
+static inline __attribute__((always_inline)) void servo_full(unsigned n, unsigned phase, int32_t old_i,
+                                                             uint16_t old_f)
 {
+    axis_t *x = &axes[n];
     PIN_PTR(x);
     stp_t *s = &stp_ax[n];
     PIN_PTR(s);
@@ -731,6 +735,11 @@ void stp_servo_full(axis_t *x, unsigned n, unsigned phase, int32_t old_i, uint16
     uint32_t t = mag + s->carry;
     stp_load_rate(s, t < mag ? 0xFFFFFFFFu : t);  /* a wrapped sum saturates */
 }
+
+void stp_servo_full_0(unsigned phase, int32_t old_i, uint16_t old_f) { servo_full(0, phase, old_i, old_f); }
+void stp_servo_full_1(unsigned phase, int32_t old_i, uint16_t old_f) { servo_full(1, phase, old_i, old_f); }
+void stp_servo_full_2(unsigned phase, int32_t old_i, uint16_t old_f) { servo_full(2, phase, old_i, old_f); }
+void stp_servo_full_3(unsigned phase, int32_t old_i, uint16_t old_f) { servo_full(3, phase, old_i, old_f); }
 
 /* axis_output, disabled (with something to switch off) or in test mode. */
 void stp_idle_output(unsigned n)

@@ -144,13 +144,16 @@ static inline __attribute__((always_inline)) void stp_load_rate(stp_t *s, uint32
     }
 }
 
-/* Every tick, modes with a profile (motion_servo_tick, after the setpoint
+/* Every tick, modes with a profile (card.c stp_tick_axis, after the setpoint
  * interpolation moved sp_i/sp_f on from old_i/old_f): the step rate for
  * this tick's distance, setpoint and following error.  The common case -
  * no creep or trim, moving on in the direction of the last tick - is
  * inline here (no call, no arguments on the stack); everything else is
- * stp_servo_full() in stepper.c, which handles every case. */
-void stp_servo_full(axis_t *x, unsigned n, unsigned phase, int32_t old_i, uint16_t old_f);
+ * stp_servo_full_N() in stepper.c (one per axis), which handles every case. */
+void stp_servo_full_0(unsigned phase, int32_t old_i, uint16_t old_f);
+void stp_servo_full_1(unsigned phase, int32_t old_i, uint16_t old_f);
+void stp_servo_full_2(unsigned phase, int32_t old_i, uint16_t old_f);
+void stp_servo_full_3(unsigned phase, int32_t old_i, uint16_t old_f);
 static inline __attribute__((always_inline)) void stp_servo(axis_t *x, unsigned n, unsigned phase, int32_t old_i,
                                                             uint16_t old_f)
 {
@@ -170,11 +173,19 @@ static inline __attribute__((always_inline)) void stp_servo(axis_t *x, unsigned 
             return;
         }
     }
-    stp_servo_full(x, n, phase, old_i, old_f);
+    /* n is a constant in the tick: one call */
+    if (n == 0)
+        stp_servo_full_0(phase, old_i, old_f);
+    else if (n == 1)
+        stp_servo_full_1(phase, old_i, old_f);
+    else if (n == 2)
+        stp_servo_full_2(phase, old_i, old_f);
+    else
+        stp_servo_full_3(phase, old_i, old_f);
 }
 
 /* axis_output, every tick: DIR, BOOST, TURBO of AX_CTRL; returns the rate. */
-static inline uint16_t stp_output(unsigned n, uint8_t mode, uint16_t *ctrl)
+static inline __attribute__((always_inline)) uint16_t stp_output(unsigned n, uint8_t mode, uint16_t *ctrl)
 {
     stp_t *s = &stp_ax[n];
     PIN_PTR(s);
