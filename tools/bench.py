@@ -128,6 +128,7 @@ def main():
     ffil = {card: ps.run(card, ps.full_filter(card)) for card in ("inc", "ssi")}
     extf = {card: ps.run(card, ps.external(card, mode=ps.FULL_FILTER)) for card in ("inc", "ssi")}
     res["creep"] = ps.run("stp", ps.creep())
+    res["creep_starts"] = ps.run("stp", ps.creep_starts())
     for card in ("inc", "ssi", "stp"):
         print("-- MAC4-%s, four axes positioning, host sending back to back (moved %s)"
               % (card.upper(), ps.moved(res[card])))
@@ -137,17 +138,18 @@ def main():
             if not l.startswith("  ") and not l.startswith("cycles at"):
                 break
             print("  " + l)
-    axis = res["creep"]["net"]["axis"]
-    tick = ps.worst(res["creep"], "timer") or 0
-    if axis.get("count"):
-        mask = ps.masked_worst(res["creep"]) or 0
-        need = mask + tick + 4 * axis["max"]
+    w = ps.creep_wait([res["creep"], res["creep_starts"]])
+    if w:
         creep = ("pulse interrupt worst %d cycles; with a tick of %d and a masked section of %d: %.0f Hz on four "
                  "axes, %.0f Hz on one (%.0f Hz on four without the masked section)" % (
-                     axis["max"], tick, mask, ps.CPU_HZ / need, ps.CPU_HZ / (mask + tick + axis["max"]),
-                     ps.CPU_HZ / (tick + 4 * axis["max"])))
+                     w["pulse"], w["tick"], w["mask"], w["hz_four"], w["hz_one"], w["hz_unmasked"]))
     else:
-        creep = "no pulse-count interrupts seen in the creep scenario (moved %s)" % ps.moved(res["creep"])
+        creep = "no pulse-count interrupts seen in the creep scenarios (moved %s, %s)" % (
+            ps.moved(res["creep"]), ps.moved(res["creep_starts"]))
+    stp_ticks = {n: ps.worst(res[k], "timer") for n, k in (("moving", "stp"), ("creep", "creep"),
+                                                             ("creep_starts", "creep_starts"))}
+    print("-- MAC4-STP controller tick worst: %s (budget %d)"
+          % (", ".join("%d %s" % (v or 0, n) for n, v in stp_ticks.items()), ps.BUDGET_STP_TICK))
     print("-- MAC4-STP creep phase: " + creep)
     for card in ("inc", "ssi"):
         print("-- MAC4-%s servo tick, four axes moving: %d cycles with the default K-only gains, %d on circular "
@@ -215,9 +217,12 @@ def main():
         "profile_tick_worst_cycles_ssi": max(ps.profile_per_period(r) or 0
                                              for r in (res["ssi"], whole["ssi"], fly["ssi"])),
         "profile_tick_worst_cycles_cruising": {c: ps.profile_per_period(res[c]) for c in ("inc", "ssi")},
-        "stp_tick_worst_cycles": ps.worst(res["stp"], "timer"),
+        # the worst of four axes positioning, four moves starting, four creep phases beginning
+        "stp_tick_worst_cycles": max(v or 0 for v in stp_ticks.values()),
+        "stp_tick_worst_cycles_per_scenario": stp_ticks,
         "stp_profile_worst_cycles": ps.profile_per_period(res["stp"]),
-        "stp_pulse_irq_worst_cycles": axis.get("max") if axis.get("count") else None,
+        "stp_pulse_irq_worst_cycles": w["pulse"] if w else None,
+        "stp_creep_hz_four_axes": round(w["hz_four"]) if w else None,
         "profile_tick_worst_cycles_whole_moves": {c: ps.profile_per_period(whole[c]) for c in whole},
         "profile_tick_worst_cycles_on_the_fly": {c: ps.profile_per_period(fly[c]) for c in fly},
         "masked_section_worst_cycles": {c: ps.masked_worst(cmds[c]) for c in cmds},

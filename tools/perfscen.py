@@ -249,6 +249,24 @@ def creep_starts(ms=1500):
     return "\n".join(lines) + "\n"
 
 
+def creep_wait(results):
+    """The creep phase's worst wait for a pulse interrupt, over the creep
+    scenarios' results (creep(), creep_starts()): a main-loop masked section
+    that has just begun, then a controller tick (level 6 outranks the axis
+    board's 5), then the pulse interrupts of all four axes.  None if a
+    scenario saw no pulse interrupt."""
+    if not all(r["net"].get("axis", {}).get("count") for r in results):
+        return None
+    w = {"pulse": max(r["net"]["axis"]["max"] for r in results),
+         "tick": max(worst(r, "timer") or 0 for r in results),
+         "mask": max(masked_worst(r) or 0 for r in results)}
+    w["need"] = w["mask"] + w["tick"] + 4 * w["pulse"]
+    w["hz_four"] = CPU_HZ / w["need"]
+    w["hz_one"] = CPU_HZ / (w["mask"] + w["tick"] + w["pulse"])
+    w["hz_unmasked"] = CPU_HZ / (w["tick"] + 4 * w["pulse"])
+    return w
+
+
 # Boot (display $1 .. $5, manual 2.5.2): the RAM test and the EPROM check sum
 # take nearly all of it.  Not a budget of issue 6: a guard that the figure
 # (docs/performance.md, "Boot") does not creep back.

@@ -185,20 +185,15 @@ def test_stp_creep_pulse_interrupts_follow_1khz_on_four_axes():
     four axes at once."""
     # the creep scenarios: creeps of different lengths, and four that begin in one tick
     rs = [scenario(name, "stp") for name in ("creep", "creep_starts")]
-    for r in rs:
-        assert r["net"]["axis"].get("count"), "no pulse-count interrupts in the creep phase (moved %s)" % ps.moved(r)
-    pulse = max(r["net"]["axis"]["max"] for r in rs)
-    tick = max(ps.worst(r, "timer") or 0 for r in rs)
+    w = ps.creep_wait(rs)
     # a pulse that comes as the main loop masks waits for that section too
     # (the E that starts another axis' move; with the count in the axis
     # board, a late interrupt loses no step: tests/system/test_stp.py)
-    mask = max(ps.masked_worst(r) or 0 for r in rs)
-    need = mask + tick + 4 * pulse
-    budget(("creep_need", "stp"), need, ps.CPU_HZ // ps.CREEP_RATE_HZ,
+    assert w is not None, "no pulse-count interrupts in the creep phase (moved %s)" % [ps.moved(r) for r in rs]
+    budget(("creep_need", "stp"), w["need"], ps.CPU_HZ // ps.CREEP_RATE_HZ,
            "creep phase: masked %d + tick %d + 4 x pulse interrupt %d, cycles (follows %.0f Hz on four axes, "
            "%.0f Hz on one; %.0f Hz without the masked section)"
-           % (mask, tick, pulse, ps.CPU_HZ / need, ps.CPU_HZ / (mask + tick + pulse),
-              ps.CPU_HZ / (tick + 4 * pulse)))
+           % (w["mask"], w["tick"], w["pulse"], w["hz_four"], w["hz_one"], w["hz_unmasked"]))
 
 
 # ---- interrupt latency: the main loop's masked sections -------------------------------
