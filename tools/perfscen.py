@@ -238,6 +238,19 @@ def creep(ms=1500):
     return "\n".join(lines) + "\n"
 
 
+def braking(card, ms=300):
+    """moving(), then a protective stop of all four axes at once: the stop
+    bits of $4600 (3.5.1) while they move at speed.  The tick then brakes
+    every axis by itself (motion.c brake_now: <pd> per SP^2 divided into the
+    four ticks) until the profile generator takes over at rest: the tick's
+    braking path on four axes."""
+    lines = setup_lines(card) + enable_lines(card) + move_lines(card, targets(card))
+    lines += ["run %d" % (200 if card != "stp" else 400)] + positions_lines()
+    lines += ["perf track on", "perf quiet on", "perf reset", "run 7", "poke16 0x4600 0x00AA",
+              "run %d" % ms, "perf quiet off", "perf report"] + positions_lines()
+    return "\n".join(lines) + "\n"
+
+
 def creep_starts(ms=1500):
     """MAC4-STP: four moves of the same length (400 steps, two each way) that
     end in the creep phase, started inside the window: the four start in one

@@ -34,6 +34,8 @@ NOT_YET_MET = {
     ("servo_tick_external", "ssi"): 6050,
     ("servo_tick_external_full", "inc"): 8750,
     ("servo_tick_external_full", "ssi"): 8850,
+    ("servo_tick_braking", "inc"): 4400,   # four axes braking at once in the tick (perfscen.braking)
+    ("servo_tick_braking", "ssi"): 5600,
     ("profile_whole", "inc"): 13200,       # cycles per 10 ms, the SP where four axes brake and land at once; 6000
     ("profile_whole", "ssi"): 13200,
     ("profile_fly", "inc"): 12100,         # the same, four far axes turning round, <pv> lowered
@@ -64,7 +66,8 @@ def scenario(name, card):
                 "whole": lambda: ps.whole_moves(card), "commands": lambda: ps.commands(card),
                 "fly": lambda: ps.on_the_fly(card), "full": lambda: ps.full_filter(card),
                 "circular": lambda: ps.circular(card), "external": lambda: ps.external(card),
-                "external_full": lambda: ps.external(card, mode=ps.FULL_FILTER)}[name]()
+                "external_full": lambda: ps.external(card, mode=ps.FULL_FILTER),
+                "braking": lambda: ps.braking(card)}[name]()
         _cache[key] = ps.run(card, text)
     return _cache[key]
 
@@ -110,7 +113,8 @@ def test_servo_tick_four_axes_moving(card):
 TICK_CONFIGS = {"circular": ("servo_tick_circular", "circular axes"),
                 "full": ("servo_tick_full", "circular axes, full filter"),
                 "external": ("servo_tick_external", "external VME encoders"),
-                "external_full": ("servo_tick_external_full", "external VME encoders, full filter")}
+                "external_full": ("servo_tick_external_full", "external VME encoders, full filter"),
+                "braking": ("servo_tick_braking", "four axes braking at once (stop bits)")}
 
 
 @pytest.mark.parametrize("card", ["inc", "ssi"])
@@ -156,14 +160,15 @@ def test_profile_generator_per_10ms_where_it_works_hardest(name, card):
 
 
 # ---- STP -------------------------------------------------------------------------------
-@pytest.mark.parametrize("name", ["moving", "creep", "creep_starts"])
+@pytest.mark.parametrize("name", ["moving", "creep", "creep_starts", "braking"])
 def test_stp_controller_tick(name):
-    """Four axes positioning; four short moves into the creep phase; and four
-    moves of one length, whose creep phases begin in the same tick."""
+    """Four axes positioning; four short moves into the creep phase; four
+    moves of one length, whose creep phases begin in the same tick; four
+    axes braking at once (stop bits)."""
     r = scenario(name, "stp")
     w = ps.worst(r, "timer")
     assert w is not None
-    assert all(x >= (250 if name != "moving" else 500) for x in ps.moved(r)), ps.moved(r)
+    assert all(x >= {"moving": 500, "braking": 100}.get(name, 250) for x in ps.moved(r)), ps.moved(r)
     budget(("stp_tick_" + name, "stp"), w, ps.BUDGET_STP_TICK,
            "STP controller tick worst (%s), cycles (10%% of 8 ms)" % name)
 
@@ -216,7 +221,7 @@ def test_every_tick_fits_its_period_when_it_is_delayed_most(card):
     """The longest masked section plus the worst tick fits one period: a
     tick is never lost, however a command delays it."""
     mask = ps.masked_worst(scenario("commands", card))
-    names = ("moving", "creep", "creep_starts") if card == "stp" else ("moving",) + tuple(sorted(TICK_CONFIGS))
+    names = ("moving", "creep", "creep_starts", "braking") if card == "stp" else ("moving",) + tuple(sorted(TICK_CONFIGS))
     tick = max(ps.worst(scenario(name, card), "timer") for name in names)   # the worst tick of all scenarios
     assert mask + tick <= ps.PERIOD[card], "masked %d + tick %d > %d" % (mask, tick, ps.PERIOD[card])
 
