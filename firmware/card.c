@@ -394,6 +394,25 @@ static void leds(void)
     hal_wr16(SYS_LEDS, l);
 }
 
+/* The tick's own braking ramp (motion.c brake_now): the speed of this
+ * tick, br_dec closer to 0 ... */
+static inline __attribute__((always_inline)) int32_t brake_slower(const axis_t *x)
+{
+    int32_t v = x->br_v, dv = x->br_dec;
+    if (v > 0)
+        v = v > dv ? v - dv : 0;
+    else if (v < 0)
+        v = v < -dv ? v + dv : 0;
+    return v;
+}
+
+/* ... and the step at that speed. */
+static inline __attribute__((always_inline)) void brake_step(axis_t *x, int32_t v)
+{
+    x->br_v = v;
+    x->br_posh += v;
+}
+
 /* The tick does only what must happen at the sampling instant (7.4):
  * measure, interpolate the setpoint, filter, drive the outputs.  Everything
  * that looks at the result - switches, protective reactions, stop bits,
@@ -436,14 +455,8 @@ static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned
         if (!x->braking) {
             sp = *(const int32_t *)(const void *)((const uint8_t *)x->sp_now + ph4);
         } else {                                  /* a stop that cannot wait for the next SP */
-            int32_t v = x->br_v, dv = x->br_dec;
-            if (v > 0)
-                v = v > dv ? v - dv : 0;
-            else if (v < 0)
-                v = v < -dv ? v + dv : 0;
-            x->br_v = v;
-            x->br_pos += v;
-            sp = (int32_t)((x->br_pos + 0x8000) >> 16);
+            brake_step(x, brake_slower(x));
+            sp = (int32_t)(x->br_posh >> 16);
         }
         int32_t e = pos_sub(sp, x->meas);
         if (general && x->gains.full)             /* card_servo_general: K-only gains without it */
@@ -565,16 +578,11 @@ static inline __attribute__((always_inline)) void stp_tick_axis(unsigned n, unsi
         int32_t old_i = x->sp_i;
         uint16_t old_f = x->sp_f;
         if (x->braking) {                        /* a stop that cannot wait for the next SP */
-            int32_t v = x->br_v, dv = x->br_dec;
-            if (v > 0)
-                v = v > dv ? v - dv : 0;
-            else if (v < 0)
-                v = v < -dv ? v + dv : 0;
+            int32_t v = brake_slower(x);
             if (v <= x->br_ssf && v >= -x->br_ssf)
                 v = 0;                           /* from <ssf> or less a stepper stops at once (5.14) */
-            x->br_v = v;
-            x->br_pos += v;
-            split_q16(x->br_pos, &x->sp_i, &x->sp_f);
+            brake_step(x, v);
+            split_q16(x->br_posh - 0x8000, &x->sp_i, &x->sp_f);
         } else if (phase == 3) {
             x->sp_i = x->end_i;
             x->sp_f = x->end_f;
@@ -633,7 +641,7 @@ static inline __attribute__((always_inline)) void tick_result(axis_t *x, unsigne
         x->setpoint = x->meas;
         x->ferr = 0;
     } else if (x->mode != M_TEST) {
-        x->setpoint = x->braking ? (int32_t)((x->br_pos + 0x8000) >> 16) : x->sp_now[ph];
+        x->setpoint = x->braking ? (int32_t)(x->br_posh >> 16) : x->sp_now[ph];
         x->ferr = pos_sub(x->setpoint, x->meas);
     }
 }

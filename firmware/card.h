@@ -40,8 +40,8 @@ typedef struct {
     /* INC/SSI: a stop that cannot wait for the profile generator's next SP
      * (protective reactions, stop bits): the tick brakes by itself, from the
      * setpoint and speed of the moment, with <ed> (or <pd>) per tick^2 */
-    int64_t br_pos;                 /* setpoint, Q16 */
-    int32_t br_v, br_dec;           /* Q16 per tick, per tick^2 */
+    int64_t br_posh;                /* setpoint, Q16, plus one half: bits 16-47 the rounded setpoint */
+    int32_t br_v, br_dec;           /* Q16 per tick (0 once the ramp has ended), per tick^2 (>= 1) */
     int32_t br_ssf;                 /* STP: <ssf> per tick, Q16: from there it stops at once */
     volatile uint8_t braking;
     int64_t target;     /* positioning target */

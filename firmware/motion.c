@@ -155,16 +155,20 @@ static void brake_now(axis_t *x, int64_t dec_sp)
         return;
     int64_t dec = dec_sp >> 4;
     x->br_dec = dec < 1 ? 1 : dec > INT32_MAX ? INT32_MAX : (int32_t)dec;
+    /* the position with the half added that rounds it: the tick's
+     * setpoint is then bits 16-47 of it (card.c brake_step) */
 #if MAC4_CARD != MAC4_CARD_STP
-    x->br_pos = (int64_t)x->setpoint * 65536;
-    x->br_v = x->sp_vel / 4;
+    int64_t pos = (int64_t)x->setpoint * 65536;
+    int32_t v = x->sp_vel / 4;
 #else
     /* the Q16 setpoint and the segment's step per tick; a stepper stops at
      * once from <ssf> or less (5.14): br_ssf per tick */
-    x->br_pos = (int64_t)x->sp_i * 65536 + x->sp_f;
-    x->br_v = (int32_t)((uint32_t)x->st_i << 16) + (int32_t)x->st_f;
+    int64_t pos = (int64_t)x->sp_i * 65536 + x->sp_f;
+    int32_t v = (int32_t)((uint32_t)x->st_i << 16) + (int32_t)x->st_f;
     x->br_ssf = (int32_t)(stp_ax[x - axes].ssf >> 2);
 #endif
+    x->br_posh = pos + 0x8000;
+    x->br_v = v;
     x->nx_ready = 0;
     x->braking = 1;
 }
@@ -173,15 +177,15 @@ static void brake_now(axis_t *x, int64_t dec_sp)
  * rest, with the rows (STP: the segment) holding the setpoint. */
 static void brake_done(axis_t *x)
 {
-    x->prof.pos = x->br_pos;
+    x->prof.pos = x->br_posh - 0x8000;
     x->prof.vel = 0;
 #if MAC4_CARD != MAC4_CARD_STP
-    int32_t sp = (int32_t)((x->br_pos + 0x8000) >> 16);
+    int32_t sp = (int32_t)(x->br_posh >> 16);
     for (unsigned k = 0; k < PROFILE_DIVIDER; k++)
         x->sp_rows[0][k] = x->sp_rows[1][k] = sp;
     x->sp_vel = x->sp_vel_next = 0;
 #else
-    split_q16(x->br_pos, &x->sp_i, &x->sp_f);
+    split_q16(x->br_posh - 0x8000, &x->sp_i, &x->sp_f);
     x->start_i = x->end_i = x->sp_i;
     x->start_f = x->end_f = x->sp_f;
     x->st_i = 0;

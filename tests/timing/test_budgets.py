@@ -34,8 +34,8 @@ NOT_YET_MET = {
     ("servo_tick_external", "ssi"): 6050,
     ("servo_tick_external_full", "inc"): 8750,
     ("servo_tick_external_full", "ssi"): 8850,
-    ("servo_tick_braking", "inc"): 4400,   # four axes braking at once in the tick (perfscen.braking)
-    ("servo_tick_braking", "ssi"): 5600,
+    ("servo_tick_braking", "inc"): 4300,   # four axes braking at once in the tick (perfscen.braking)
+    ("servo_tick_braking", "ssi"): 5500,
     ("profile_whole", "inc"): 13200,       # cycles per 10 ms, the SP where four axes brake and land at once; 6000
     ("profile_whole", "ssi"): 13200,
     ("profile_fly", "inc"): 12100,         # the same, four far axes turning round, <pv> lowered
