@@ -391,16 +391,24 @@ static int do_init(unsigned a)
     /* INIT needs the axis disabled: the tick drives 0 V there and, with its
      * measurement of the axis held off until the supervision after INIT
      * (mk_tick), reads nothing INIT writes - so the bulk of INIT runs with
-     * interrupts enabled (the other axes' ticks are not held off by it).
-     * (The STP's tick works on a disabled axis' step output too: masked.) */
+     * interrupts enabled (the other axes' ticks are not held off by it). */
     axes[a].mk_tick = MK_NONE;
     cmd_unmask();
-#endif
     params_activate(a, PK_SYS);
     params_activate(a, PK_MODE);
     axis_init_measurement(a);
-#if MAC4_CARD != MAC4_CARD_STP
     cmd_remask();
+#else
+    /* The STP's tick works on a disabled axis' step output and step count
+     * too (stp_t, which the measurement's set-up rewrites): that part stays
+     * masked.  The parameters' activation only copies the axis' written
+     * values, which no interrupt reads on a disabled axis but one at a time
+     * in a single move (<irq6>, <irq5>): unmasked. */
+    cmd_unmask();
+    params_activate(a, PK_SYS);
+    params_activate(a, PK_MODE);
+    cmd_remask();
+    axis_init_measurement(a);
 #endif
     axes[a].ustat |= UB(INIT);
     axes[a].next_mode = NO_MODE;

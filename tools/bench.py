@@ -174,6 +174,22 @@ def main():
     print("-- MAC4-INC idle card (axes enabled at rest), host back to back: latency max %.2f ms, mean %.2f ms"
           % (ps.latency_ms(res["idle"]) or 0, res["idle"]["latency"].get("mean_us", 0) / 1000.0))
 
+    # the UART's deadline: one character time at 4800 baud, both hosts busy
+    ser = {card: ps.run(card, ps.serial(card)) for card in ("inc", "ssi", "stp")}
+    uart_need = {}
+    for card in ("inc", "ssi", "stp"):
+        tick = (max(v or 0 for v in stp_ticks.values()) if card == "stp" else
+                max(ps.worst(r[card], "timer") or 0 for r in (res, ffil, extf, brk)))
+        uart = ps.worst(ser[card], "uart") or 0
+        uart_need[card] = ps.uart_wait(card, uart, ps.masked_worst(cmds[card]) or 0, tick,
+                                       w["pulse"] if (w and card == "stp") else 0)
+        st = ps.serial_stats(ser[card])
+        print("-- MAC4-%s serial line busy (%d telegrams, %d answered, %d overruns) and the VME host back to back: "
+              "UART interrupt worst %d cycles; its deadline, one character at 4800 baud: %d of %d cycles "
+              "(masked section, tick, creep pulses, handler); CPU load %.1f%%, latency max %.2f ms"
+              % (card.upper(), ps.SERIAL_TELEGRAMS, st.get("tx_ok", 0), st.get("overruns", 0), uart,
+                 uart_need[card], ps.CHAR_CYCLES, ps.load_percent(ser[card]) or 0, ps.latency_ms(ser[card]) or 0))
+
     boot = {card: ps.boot_ms(card) for card in ("inc", "ssi", "stp")}
     print("-- boot, reset to display $5 (RAM test, EPROM check sum): %s"
           % ", ".join("MAC4-%s %.0f ms" % (c.upper(), boot[c] or 0) for c in boot))
@@ -239,6 +255,10 @@ def main():
         "bare_emulated_per_wall": round(bare, 2),
         "harness_overhead_ratio": round(bare / full, 3),
         "boot_ms": boot,
+        "uart_irq_worst_cycles": {c: ps.worst(ser[c], "uart") for c in ser},
+        "uart_deadline_need_cycles": uart_need,
+        "uart_deadline_cycles": ps.CHAR_CYCLES,
+        "cpu_load_percent_both_hosts": {c: ps.load_percent(ser[c]) for c in ser},
         "image_bytes": images,
         "ram_stack_bytes": max(s["ram_stack_bytes"] for s in stacks.values()),
         "ram_stack_bytes_per_card": {c: s["ram_stack_bytes"] for c, s in stacks.items()},

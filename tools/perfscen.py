@@ -251,6 +251,42 @@ def braking(card, ms=300):
     return "\n".join(lines) + "\n"
 
 
+SERIAL_TELEGRAMS = 44       # 11 bytes each at 4800 baud: about 1 s of a busy serial line
+CHAR_CYCLES = CPU_HZ * 10 // 4800    # one character time (8N1) in cycles: 33 333
+
+
+def serial(card, ms=1000):
+    """moving() with both hosts busy: the VME host back to back and, on the
+    front-panel serial line (4800 baud, 3.3), telegrams one after the other
+    (RCP, RBS, RFE, RAP on axes 1-4), each answered: the UART interrupt
+    (level 4) for every byte received and sent."""
+    lines = setup_lines(card) + enable_lines(card) + move_lines(card, targets(card))
+    lines += ["run %d" % (200 if card != "stp" else 400)] + positions_lines()
+    lines += ["perf track on", "perf quiet on", "perf reset", "perf host-load on"]
+    lines += ["tx-msg %d %s" % (k % 4, ("RCP", "RBS", "RFE", "RAP")[k % 4]) for k in range(SERIAL_TELEGRAMS)]
+    lines += ["run %d" % ms, "perf host-load off", "perf quiet off", "perf report", "serial-stats"]
+    lines += positions_lines()
+    return "\n".join(lines) + "\n"
+
+
+def serial_stats(r):
+    for line in r["lines"]:
+        if line.startswith("serial-stats "):
+            return {k: num(v) for k, v in KV.findall(line)}
+    return {}
+
+
+def uart_wait(card, uart, mask, tick, pulse):
+    """The UART's deadline (docs/performance.md): a received character must
+    be read before the next one has arrived, one character time later.  The
+    worst until its handler has done so: a main-loop masked section that has
+    just begun, the one controller tick that can begin within a character
+    time (the period is longer), the STP's creep pulse interrupts of four
+    axes at up to 1 kHz (three each in a character time) and the handler."""
+    pulses = 4 * -(-CHAR_CYCLES // (CPU_HZ // 1000)) if card == "stp" else 0
+    return mask + tick + pulses * pulse + uart
+
+
 def creep_starts(ms=1500):
     """MAC4-STP: four moves of the same length (400 steps, two each way) that
     end in the creep phase, started inside the window: the four start in one
