@@ -582,7 +582,11 @@ static inline __attribute__((always_inline)) void stp_tick_axis(unsigned n, unsi
             if (v <= x->br_ssf && v >= -x->br_ssf)
                 v = 0;                           /* from <ssf> or less a stepper stops at once (5.14) */
             brake_step(x, v);
-            split_q16(x->br_posh - 0x8000, &x->sp_i, &x->sp_f);
+            /* the Q16 setpoint from br_posh = it + 1/2: the fraction's top
+             * bit flipped, and a borrow from the integer part below 1/2 */
+            uint16_t lo = (uint16_t)x->br_posh;
+            x->sp_i = (int32_t)(x->br_posh >> 16) - (lo < 0x8000u);
+            x->sp_f = (uint16_t)(lo ^ 0x8000u);
         } else if (phase == 3) {
             x->sp_i = x->end_i;
             x->sp_f = x->end_f;
