@@ -207,8 +207,9 @@ def commands(card, ms=1000):
     """Three axes positioning while the host reconfigures: every 10 ms a new
     target on the fly for one of them (WAP, E) and INIT or DEINIT of the
     fourth - the commands that run longest with interrupts masked - and then
-    every other command once, so that the longest masked section (the bound
-    of every interrupt's latency) and the tick's measured latency are in the
+    every other command once, and last a watchdog expiry, which stops all
+    axes at once: so that the longest masked section (the bound of every
+    interrupt's latency) and the tick's measured latency are in the
     window."""
     tg = targets(card)
     lines = setup_lines(card) + enable_lines(card) + move_lines(card, tg[:3] + [tg[3]])
@@ -220,6 +221,8 @@ def commands(card, ms=1000):
         lines += ["send %d WAP %d" % (a, far), "send %d E" % a, "send 3 %s" % ("INIT" if k % 2 == 0 else "DEINIT"),
                   "run 10"]
     lines += ["perf quiet off"] + positions_lines() + ["perf quiet on"] + every_command_lines(card, tg)
+    # and last the watchdog (4.7): <wd> 20 ms, then silence - all axes stop at once (watchdog_fire)
+    lines += ["send 0 E", "send 1 E", "send 2 E", "run 20", "send 0 WWD 20", "run 60"]
     lines += ["perf quiet off", "perf report"]
     return "\n".join(lines) + "\n"
 
