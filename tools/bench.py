@@ -181,8 +181,9 @@ def main():
         tick = (max(v or 0 for v in stp_ticks.values()) if card == "stp" else
                 max(ps.worst(r[card], "timer") or 0 for r in (res, ffil, extf, brk)))
         uart = ps.worst(ser[card], "uart") or 0
-        uart_need[card] = ps.uart_wait(card, uart, ps.masked_worst(cmds[card]) or 0, tick,
-                                       w["pulse"] if (w and card == "stp") else 0)
+        masked = max(ps.masked_worst(r) or 0 for r in (
+            (cmds["stp"], res["stp"], res["creep_starts"]) if card == "stp" else (cmds[card], whole[card], fly[card])))
+        uart_need[card] = ps.uart_wait(card, uart, masked, tick, w["pulse"] if (w and card == "stp") else 0)
         st = ps.serial_stats(ser[card])
         print("-- MAC4-%s serial line busy (%d telegrams, %d answered, %d overruns) and the VME host back to back: "
               "UART interrupt worst %d cycles; its deadline, one character at 4800 baud: %d of %d cycles "

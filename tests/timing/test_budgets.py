@@ -220,9 +220,18 @@ def test_the_tick_latency_stays_within_the_longest_masked_section(card):
 def test_every_tick_fits_its_period_when_it_is_delayed_most(card):
     """The longest masked section plus the worst tick fits one period: a
     tick is never lost, however a command delays it."""
-    mask = ps.masked_worst(scenario("commands", card))
+    mask = worst_masked(card)
     tick = worst_tick(card)
     assert mask + tick <= ps.PERIOD[card], "masked %d + tick %d > %d" % (mask, tick, ps.PERIOD[card])
+
+
+def worst_masked(card):
+    """The longest main-loop masked section of the scenarios that have the
+    long ones: the commands (the watchdog's stop of all axes last), and the
+    profile generator's steps (card_profile_tick runs masked), the longest
+    over whole moves and on the fly (STP: positioning and the creep)."""
+    names = ("commands", "moving", "creep_starts") if card == "stp" else ("commands", "whole", "fly")
+    return max(ps.masked_worst(scenario(name, card)) for name in names)
 
 
 def worst_tick(card):
@@ -245,7 +254,7 @@ def test_the_uart_interrupt_keeps_up_with_4800_baud(card):
     assert all(x >= 500 for x in ps.moved(r)), ps.moved(r)
     uart = ps.worst(r, "uart")
     assert uart, "no UART interrupt measured"
-    mask = ps.masked_worst(scenario("commands", card))
+    mask = worst_masked(card)
     pulse = ps.creep_wait([scenario("creep", "stp"), scenario("creep_starts", "stp")])["pulse"] if card == "stp" else 0
     need = ps.uart_wait(card, uart, mask, worst_tick(card), pulse)
     assert need <= ps.CHAR_CYCLES, "UART: masked %d + tick %d + pulses + handler %d = %d > %d cycles" % (
@@ -257,7 +266,7 @@ def test_masked_sections_within_a_tenth_of_the_period(card):
     """The sampling instant of the INC counter and the output instant of
     every card move with the tick's latency: at most 10% of the period, as
     for the tick itself (docs/performance.md)."""
-    mask = ps.masked_worst(scenario("commands", card))
+    mask = worst_masked(card)
     budget(("masked", card), mask, ps.PERIOD[card] // 10, "%s longest masked section, cycles" % card)
 
 
