@@ -128,6 +128,8 @@ def main():
     ffil = {card: ps.run(card, ps.full_filter(card)) for card in ("inc", "ssi")}
     extf = {card: ps.run(card, ps.external(card, mode=ps.FULL_FILTER)) for card in ("inc", "ssi")}
     brk = {card: ps.run(card, ps.braking(card)) for card in ("inc", "ssi", "stp")}
+    lost = {card: ps.run(card, ps.encoder_loss(card)) for card in ("inc", "ssi", "stp")}
+    stp_ext = ps.run("stp", ps.external("stp"))
     res["creep"] = ps.run("stp", ps.creep())
     res["creep_starts"] = ps.run("stp", ps.creep_starts())
     for card in ("inc", "ssi", "stp"):
@@ -150,15 +152,19 @@ def main():
     stp_ticks = {n: ps.worst(res[k], "timer") for n, k in (("moving", "stp"), ("creep", "creep"),
                                                              ("creep_starts", "creep_starts"))}
     stp_ticks["braking"] = ps.worst(brk["stp"], "timer")
+    stp_ticks["external"] = ps.worst(stp_ext, "timer")
+    stp_ticks["encoder_loss"] = ps.worst(lost["stp"], "timer")
     print("-- MAC4-STP controller tick worst: %s (budget %d)"
           % (", ".join("%d %s" % (v or 0, n) for n, v in stp_ticks.items()), ps.BUDGET_STP_TICK))
     print("-- MAC4-STP creep phase: " + creep)
     for card in ("inc", "ssi"):
         print("-- MAC4-%s servo tick, four axes moving: %d cycles with the default K-only gains, %d on circular "
               "axes with every filter term and <sw> (perfscen.full_filter), %d so with external VME encoders "
-              "(perfscen.external), %d with four axes braking at once (perfscen.braking); budget %d" % (
+              "(perfscen.external), %d with four axes braking at once (perfscen.braking), %d with four external "
+              "encoders failing at once (perfscen.encoder_loss); budget %d" % (
                   card.upper(), ps.worst(res[card], "timer") or 0, ps.worst(ffil[card], "timer") or 0,
-                  ps.worst(extf[card], "timer") or 0, ps.worst(brk[card], "timer") or 0, ps.BUDGET_SERVO_TICK))
+                  ps.worst(extf[card], "timer") or 0, ps.worst(brk[card], "timer") or 0,
+                  ps.worst(lost[card], "timer") or 0, ps.BUDGET_SERVO_TICK))
     for card in ("inc", "ssi"):
         print("-- MAC4-%s profile generator, worst SP: %d cycles over whole moves (four axes braking at once), "
               "%d changing course on the fly (budget %d)" % (card.upper(), ps.profile_per_period(whole[card]) or 0,
@@ -179,7 +185,7 @@ def main():
     uart_need = {}
     for card in ("inc", "ssi", "stp"):
         tick = (max(v or 0 for v in stp_ticks.values()) if card == "stp" else
-                max(ps.worst(r[card], "timer") or 0 for r in (res, ffil, extf, brk)))
+                max(ps.worst(r[card], "timer") or 0 for r in (res, ffil, extf, brk, lost)))
         uart = ps.worst(ser[card], "uart") or 0
         masked = max(ps.masked_worst(r) or 0 for r in (
             (cmds["stp"], res["stp"], res["creep_starts"]) if card == "stp" else (cmds[card], whole[card], fly[card])))
@@ -232,6 +238,7 @@ def main():
         "servo_tick_worst_cycles_k_only": {c: ps.worst(res[c], "timer") for c in ("inc", "ssi")},
         "servo_tick_worst_cycles_full_filter": {c: ps.worst(ffil[c], "timer") for c in ffil},
         "servo_tick_worst_cycles_braking": {c: ps.worst(brk[c], "timer") for c in ("inc", "ssi")},
+        "servo_tick_worst_cycles_encoder_loss": {c: ps.worst(lost[c], "timer") for c in ("inc", "ssi")},
         # the worst SP of the scenarios: cruising, whole moves, course changes on the fly
         "profile_tick_worst_cycles": max(ps.profile_per_period(r) or 0 for r in (inc, whole["inc"], fly["inc"])),
         "profile_tick_worst_cycles_ssi": max(ps.profile_per_period(r) or 0

@@ -140,6 +140,14 @@ def external(card, mode=()):
     return "\n".join(lines) + "\n"
 
 
+def encoder_loss(card):
+    """external() with all four encoder boards failing at once (removed from
+    the VMEbus) 100 ms into the window: the tick's bus errors on four axes,
+    each an encoder error that disables its axis at once (6.3.8)."""
+    off = "".join("vme-encoder $%X off\n" % (0x80C000 + 0x10 * a) for a in AXES)
+    return external(card).replace("perf reset\nrun 1000", "perf reset\nrun 100\n" + off + "run 50")
+
+
 def circular(card):
     """moving() on circular axes, the default gains."""
     return configured(card, system=CIRCULAR, shift=CIRCULAR_SHIFT[card])

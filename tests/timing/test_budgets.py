@@ -36,6 +36,8 @@ NOT_YET_MET = {
     ("servo_tick_external_full", "ssi"): 8850,
     ("servo_tick_braking", "inc"): 4300,   # four axes braking at once in the tick (perfscen.braking)
     ("servo_tick_braking", "ssi"): 5500,
+    ("servo_tick_encoder_loss", "inc"): 8000,  # four external encoders failing in one tick (perfscen.encoder_loss)
+    ("servo_tick_encoder_loss", "ssi"): 8150,
     ("profile_whole", "inc"): 13200,       # cycles per 10 ms, the SP where four axes brake and land at once; 6000
     ("profile_whole", "ssi"): 13200,
     ("profile_fly", "inc"): 12100,         # the same, four far axes turning round, <pv> lowered
@@ -67,7 +69,8 @@ def scenario(name, card):
                 "fly": lambda: ps.on_the_fly(card), "full": lambda: ps.full_filter(card),
                 "circular": lambda: ps.circular(card), "external": lambda: ps.external(card),
                 "external_full": lambda: ps.external(card, mode=ps.FULL_FILTER),
-                "braking": lambda: ps.braking(card), "serial": lambda: ps.serial(card)}[name]()
+                "braking": lambda: ps.braking(card), "serial": lambda: ps.serial(card),
+                "encoder_loss": lambda: ps.encoder_loss(card)}[name]()
         _cache[key] = ps.run(card, text)
     return _cache[key]
 
@@ -114,7 +117,8 @@ TICK_CONFIGS = {"circular": ("servo_tick_circular", "circular axes"),
                 "full": ("servo_tick_full", "circular axes, full filter"),
                 "external": ("servo_tick_external", "external VME encoders"),
                 "external_full": ("servo_tick_external_full", "external VME encoders, full filter"),
-                "braking": ("servo_tick_braking", "four axes braking at once (stop bits)")}
+                "braking": ("servo_tick_braking", "four axes braking at once (stop bits)"),
+                "encoder_loss": ("servo_tick_encoder_loss", "four external encoders failing at once")}
 
 
 @pytest.mark.parametrize("card", ["inc", "ssi"])
@@ -160,11 +164,15 @@ def test_profile_generator_per_10ms_where_it_works_hardest(name, card):
 
 
 # ---- STP -------------------------------------------------------------------------------
-@pytest.mark.parametrize("name", ["moving", "creep", "creep_starts", "braking"])
+STP_TICK_SCENARIOS = ("moving", "creep", "creep_starts", "braking", "external", "encoder_loss")
+
+
+@pytest.mark.parametrize("name", STP_TICK_SCENARIOS)
 def test_stp_controller_tick(name):
     """Four axes positioning; four short moves into the creep phase; four
     moves of one length, whose creep phases begin in the same tick; four
-    axes braking at once (stop bits)."""
+    axes braking at once (stop bits); four axes measured by absolute
+    encoders on the VMEbus, and those four failing at once."""
     r = scenario(name, "stp")
     w = ps.worst(r, "timer")
     assert w is not None
@@ -236,7 +244,7 @@ def worst_masked(card):
 
 def worst_tick(card):
     """The worst controller tick of all the card's scenarios."""
-    names = ("moving", "creep", "creep_starts", "braking") if card == "stp" else ("moving",) + tuple(sorted(TICK_CONFIGS))
+    names = STP_TICK_SCENARIOS if card == "stp" else ("moving",) + tuple(sorted(TICK_CONFIGS))
     return max(ps.worst(scenario(name, card), "timer") for name in names)
 
 
