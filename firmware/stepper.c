@@ -260,17 +260,8 @@ uint32_t stp_ratio_q16(uint32_t ms, uint32_t es, int *exact)
     return v;
 }
 
-int32_t stp_scale(int32_t c, uint32_t ratio_q16)
-{
-    uint32_t a = c < 0 ? 0u - (uint32_t)c : (uint32_t)c;
-    uint32_t r = ratio_q16;
-    IN_REG(a);
-    IN_REG(r);
-    uint16_t ah = (uint16_t)(a >> 16), al = (uint16_t)a, rh = (uint16_t)(r >> 16), rl = (uint16_t)r;
-    uint32_t v = (mulu16(ah, rh) << 16) + mulu16(al, rh) + mulu16(ah, rl) + ((mulu16(al, rl) + 0x8000u) >> 16);
-    return c < 0 ? -(int32_t)v : (int32_t)v;
-}
 
+int32_t stp_scale_call(int32_t c, uint32_t ratio_q16) { return stp_scale(c, ratio_q16); }
 
 uint16_t stp_rate_of(uint32_t mag, uint32_t *carry, uint16_t clocks_per_tick)
 {
@@ -350,7 +341,7 @@ void stp_init(unsigned n)
         /* one increment is ratio steps: the tolerance of RFE and <tr> (4.8.1, 5.6) */
         s->tol = (int32_t)((s->ratio >> 16) + ((s->ratio & 0xFFFFu) != 0));
         s->inc = x->meas;                        /* 0, or the absolute encoder's value */
-        s->conv = stp_scale(s->inc, s->ratio);
+        s->conv = stp_scale_call(s->inc, s->ratio);
         x->meas = s->conv;
     }
     /* BR (2.4.2): closed to count the steps (<et> 0), open for the encoder (<et> 1) */
@@ -359,17 +350,6 @@ void stp_init(unsigned n)
         if (br != (et == 0))
             axis_error(n, UB(ENCODER_F) | UB(LOGO_F), ERR_LOGICAL);
     }
-}
-
-int32_t stp_measured(unsigned n, int32_t d)
-{
-    stp_t *s = &stp_ax[n];
-    PIN_PTR(s);
-    s->inc += d;
-    int32_t m = stp_scale(s->inc, s->ratio);
-    d = m - s->conv;
-    s->conv = m;
-    return d;
 }
 
 int32_t stp_counts(unsigned n)
@@ -385,7 +365,7 @@ int32_t stp_tol(unsigned n) { return stp_ax[n].tol; }
 static inline __attribute__((always_inline)) int32_t edge_of(const axis_t *x, const stp_t *s, unsigned n, int32_t d)
 {
     if (stp_conv & (1u << n))
-        return stp_scale(s->inc + d, s->ratio);
+        return stp_scale_call(s->inc + d, s->ratio);   /* a creep's start, an index: a call */
     return x->meas + ((x->ustat & UB(REV_O)) ? -d : d);
 }
 

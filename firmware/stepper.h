@@ -40,8 +40,19 @@ int stp_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t d
 /* ms / (4 es) in Q16, rounded, saturated at 0xFFFFFFFF; *exact = 1 when
  * the Q16 value is exact.  Main loop (it divides). */
 uint32_t stp_ratio_q16(uint32_t ms, uint32_t es, int *exact);
-/* round(c * ratio) for a counter value c and a Q16 ratio: four MULU.W. */
-int32_t stp_scale(int32_t c, uint32_t ratio_q16);
+/* round(c * ratio) for a counter value c and a Q16 ratio: four MULU.W.
+ * Inline: the tick converts every axis' increments with it. */
+static inline __attribute__((always_inline)) int32_t stp_scale(int32_t c, uint32_t ratio_q16)
+{
+    uint32_t a = c < 0 ? 0u - (uint32_t)c : (uint32_t)c;
+    uint32_t r = ratio_q16;
+    IN_REG(a);
+    IN_REG(r);
+    uint16_t ah = (uint16_t)(a >> 16), al = (uint16_t)a, rh = (uint16_t)(r >> 16), rl = (uint16_t)r;
+    uint32_t v = (mulu16(ah, rh) << 16) + mulu16(al, rh) + mulu16(ah, rl) + ((mulu16(al, rl) + 0x8000u) >> 16);
+    return c < 0 ? -(int32_t)v : (int32_t)v;
+}
+int32_t stp_scale_call(int32_t c, uint32_t ratio_q16);   /* the same as a call: for the paths of an event */
 /* The step-rate register for a distance of mag (Q16 steps) in one 8 ms
  * tick: the generator adds the rate 400 times per tick (TURBO: 4000), so
  * rate = mag / 400; *carry keeps the remainder for the next tick, so the
@@ -115,7 +126,18 @@ static inline __attribute__((always_inline)) uint16_t stp_dir_bit(const axis_t *
 /* measurement (measure.c) */
 void stp_init(unsigned n);                    /* INIT: ratio, tolerance, counts */
 extern uint8_t stp_conv;                      /* bit n: axis n counts increments */
-int32_t stp_measured(unsigned n, int32_t d);  /* tick: increments -> steps */
+/* tick: increments -> steps (the step count of the increments so far, less
+ * that of the tick before) */
+static inline __attribute__((always_inline)) int32_t stp_measured(unsigned n, int32_t d)
+{
+    stp_t *s = &stp_ax[n];
+    PIN_PTR(s);
+    s->inc += d;
+    int32_t m = stp_scale(s->inc, s->ratio);
+    d = m - s->conv;
+    s->conv = m;
+    return d;
+}
 int32_t stp_counts(unsigned n);               /* position counter in its units (RCPI) */
 int32_t stp_edge(unsigned n, int32_t d);      /* index latched d counts from here: steps */
 int32_t stp_tol(unsigned n);                  /* steps the encoder ratio leaves open */
