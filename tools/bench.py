@@ -154,6 +154,7 @@ def main():
     stp_ticks["braking"] = ps.worst(brk["stp"], "timer")
     stp_ticks["external"] = ps.worst(stp_ext, "timer")
     stp_ticks["encoder_loss"] = ps.worst(lost["stp"], "timer")
+    stp_ticks["encoder"] = ps.worst(ps.run("stp", ps.stp_encoder()), "timer")
     print("-- MAC4-STP controller tick worst: %s (budget %d)"
           % (", ".join("%d %s" % (v or 0, n) for n, v in stp_ticks.items()), ps.BUDGET_STP_TICK))
     print("-- MAC4-STP creep phase: " + creep)

@@ -140,6 +140,15 @@ def external(card, mode=()):
     return "\n".join(lines) + "\n"
 
 
+def stp_encoder():
+    """MAC4-STP: four axes positioning, each measured by the encoder on its
+    motor (<et> 1, BR open: the counter counts increments, 4.4.2.3), <ms>
+    500 and <es> 1000 as the default plant's motor and encoder (0.125 steps
+    per increment): the tick converts the increments every tick."""
+    s = configured("stp", system=("UWET 1", "UWMS 500", "UWES 1000"))
+    return "".join("br %d encoder\n" % a for a in AXES) + s
+
+
 def encoder_loss(card):
     """external() with all four encoder boards failing at once (removed from
     the VMEbus) 100 ms into the window: the tick's bus errors on four axes,

@@ -70,7 +70,7 @@ def scenario(name, card):
                 "circular": lambda: ps.circular(card), "external": lambda: ps.external(card),
                 "external_full": lambda: ps.external(card, mode=ps.FULL_FILTER),
                 "braking": lambda: ps.braking(card), "serial": lambda: ps.serial(card),
-                "encoder_loss": lambda: ps.encoder_loss(card)}[name]()
+                "encoder_loss": lambda: ps.encoder_loss(card), "encoder": ps.stp_encoder}[name]()
         _cache[key] = ps.run(card, text)
     return _cache[key]
 
@@ -164,7 +164,7 @@ def test_profile_generator_per_10ms_where_it_works_hardest(name, card):
 
 
 # ---- STP -------------------------------------------------------------------------------
-STP_TICK_SCENARIOS = ("moving", "creep", "creep_starts", "braking", "external", "encoder_loss")
+STP_TICK_SCENARIOS = ("moving", "creep", "creep_starts", "braking", "external", "encoder_loss", "encoder")
 
 
 @pytest.mark.parametrize("name", STP_TICK_SCENARIOS)
@@ -172,11 +172,12 @@ def test_stp_controller_tick(name):
     """Four axes positioning; four short moves into the creep phase; four
     moves of one length, whose creep phases begin in the same tick; four
     axes braking at once (stop bits); four axes measured by absolute
-    encoders on the VMEbus, and those four failing at once."""
+    encoders on the VMEbus, and those four failing at once; four measured
+    by the encoders on their motors."""
     r = scenario(name, "stp")
     w = ps.worst(r, "timer")
     assert w is not None
-    assert all(x >= {"moving": 500, "braking": 100}.get(name, 250) for x in ps.moved(r)), ps.moved(r)
+    assert all(x >= {"moving": 500, "encoder": 500, "braking": 100}.get(name, 250) for x in ps.moved(r)), ps.moved(r)
     budget(("stp_tick_" + name, "stp"), w, ps.BUDGET_STP_TICK,
            "STP controller tick worst (%s), cycles (10%% of 8 ms)" % name)
 
