@@ -456,7 +456,7 @@ static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned
             sp = *(const int32_t *)(const void *)((const uint8_t *)x->sp_now + ph4);
         } else {                                  /* a stop that cannot wait for the next SP */
             brake_step(x, brake_slower(x));
-            sp = (int32_t)(x->br_posh >> 16);
+            sp = brake_setpoint(x);
         }
         int32_t e = pos_sub(sp, x->meas);
         if (general && x->gains.full)             /* card_servo_general: K-only gains without it */
@@ -582,11 +582,11 @@ static inline __attribute__((always_inline)) void stp_tick_axis(unsigned n, unsi
             if (v <= x->br_ssf && v >= -x->br_ssf)
                 v = 0;                           /* from <ssf> or less a stepper stops at once (5.14) */
             brake_step(x, v);
-            /* the Q16 setpoint from br_posh = it + 1/2: the fraction's top
-             * bit flipped, and a borrow from the integer part below 1/2 */
-            uint16_t lo = (uint16_t)x->br_posh;
-            x->sp_i = (int32_t)(x->br_posh >> 16) - (lo < 0x8000u);
-            x->sp_f = (uint16_t)(lo ^ 0x8000u);
+            int32_t i;
+            uint16_t f;
+            brake_split(x, &i, &f);              /* into locals: they alias nothing */
+            x->sp_i = i;
+            x->sp_f = f;
         } else if (phase == 3) {
             x->sp_i = x->end_i;
             x->sp_f = x->end_f;
@@ -645,7 +645,7 @@ static inline __attribute__((always_inline)) void tick_result(axis_t *x, unsigne
         x->setpoint = x->meas;
         x->ferr = 0;
     } else if (x->mode != M_TEST) {
-        x->setpoint = x->braking ? (int32_t)(x->br_posh >> 16) : x->sp_now[ph];
+        x->setpoint = x->braking ? brake_setpoint(x) : x->sp_now[ph];
         x->ferr = pos_sub(x->setpoint, x->meas);
     }
 }

@@ -107,6 +107,25 @@ static inline void split_q16(int64_t q, int32_t *i, uint16_t *f)
     *f = (uint16_t)q;
 }
 
+/* The tick's own brake keeps its Q16 position plus one half (br_posh), so
+ * that bits 16-47 are the rounded setpoint, one 32-bit part of it: these
+ * are the only readers and the writer of that representation. */
+#define BR_HALF 0x8000u
+static inline void brake_set_pos(axis_t *x, int64_t q16) { x->br_posh = q16 + BR_HALF; }
+static inline int64_t brake_pos(const axis_t *x) { return x->br_posh - BR_HALF; }
+static inline __attribute__((always_inline)) int32_t brake_setpoint(const axis_t *x)
+{
+    return (int32_t)(x->br_posh >> 16);
+}
+/* brake_pos() as the integer part and fraction (split_q16) without a 64-bit
+ * subtraction: the fraction's top bit flipped, a borrow below one half */
+static inline __attribute__((always_inline)) void brake_split(const axis_t *x, int32_t *i, uint16_t *f)
+{
+    uint16_t lo = (uint16_t)x->br_posh;
+    *i = (int32_t)((uint32_t)(x->br_posh >> 16) - (lo < BR_HALF));
+    *f = (uint16_t)(lo ^ BR_HALF);
+}
+
 extern axis_t axes[MAC4_NAXES];
 /* &axes[n] by a table: sizeof(axis_t) is no power of two, and the 68000
  * would compute the product with a dozen shifts and adds where it matters */

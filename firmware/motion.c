@@ -155,8 +155,6 @@ static void brake_now(axis_t *x, int64_t dec_sp)
         return;
     int64_t dec = dec_sp >> 4;
     x->br_dec = dec < 1 ? 1 : dec > INT32_MAX ? INT32_MAX : (int32_t)dec;
-    /* the position with the half added that rounds it: the tick's
-     * setpoint is then bits 16-47 of it (card.c brake_step) */
 #if MAC4_CARD != MAC4_CARD_STP
     int64_t pos = (int64_t)x->setpoint * 65536;
     int32_t v = x->sp_vel / 4;
@@ -167,7 +165,7 @@ static void brake_now(axis_t *x, int64_t dec_sp)
     int32_t v = (int32_t)((uint32_t)x->st_i << 16) + (int32_t)x->st_f;
     x->br_ssf = (int32_t)(stp_ax[x - axes].ssf >> 2);
 #endif
-    x->br_posh = pos + 0x8000;
+    brake_set_pos(x, pos);
     x->br_v = v;
     x->nx_ready = 0;
     x->braking = 1;
@@ -177,15 +175,15 @@ static void brake_now(axis_t *x, int64_t dec_sp)
  * rest, with the rows (STP: the segment) holding the setpoint. */
 static void brake_done(axis_t *x)
 {
-    x->prof.pos = x->br_posh - 0x8000;
+    x->prof.pos = brake_pos(x);
     x->prof.vel = 0;
 #if MAC4_CARD != MAC4_CARD_STP
-    int32_t sp = (int32_t)(x->br_posh >> 16);
+    int32_t sp = brake_setpoint(x);
     for (unsigned k = 0; k < PROFILE_DIVIDER; k++)
         x->sp_rows[0][k] = x->sp_rows[1][k] = sp;
     x->sp_vel = x->sp_vel_next = 0;
 #else
-    split_q16(x->br_posh - 0x8000, &x->sp_i, &x->sp_f);
+    brake_split(x, &x->sp_i, &x->sp_f);
     x->start_i = x->end_i = x->sp_i;
     x->start_f = x->end_f = x->sp_f;
     x->st_i = 0;
