@@ -118,20 +118,18 @@ def main():
     print("  harness overhead %.2fx (aim < 2x); real time %.0fx (aim >= 50x)" % (bare / full, full))
 
     print("== cycle budgets (emulated, deterministic)")
-    res = {}
-    for card in ("inc", "ssi", "stp"):
-        res[card] = ps.run(card, ps.moving(card))
-    res["idle"] = ps.run("inc", ps.idle("inc"))
-    cmds = {card: ps.run(card, ps.commands(card)) for card in ("inc", "ssi", "stp")}
-    whole = {card: ps.run(card, ps.whole_moves(card)) for card in ("inc", "ssi")}
-    fly = {card: ps.run(card, ps.on_the_fly(card)) for card in ("inc", "ssi")}
-    ffil = {card: ps.run(card, ps.full_filter(card)) for card in ("inc", "ssi")}
-    extf = {card: ps.run(card, ps.external(card, mode=ps.FULL_FILTER)) for card in ("inc", "ssi")}
-    brk = {card: ps.run(card, ps.braking(card)) for card in ("inc", "ssi", "stp")}
-    lost = {card: ps.run(card, ps.encoder_loss(card)) for card in ("inc", "ssi", "stp")}
-    stp_ext = ps.run("stp", ps.external("stp"))
-    res["creep"] = ps.run("stp", ps.creep())
-    res["creep_starts"] = ps.run("stp", ps.creep_starts())
+    runs = ps.Runs()          # the scenarios of tests/timing, each run once
+    res = {card: runs.get("moving", card) for card in ("inc", "ssi", "stp")}
+    res["idle"] = runs.get("idle", "inc")
+    cmds = {card: runs.get("commands", card) for card in ("inc", "ssi", "stp")}
+    whole = {card: runs.get("whole", card) for card in ("inc", "ssi")}
+    fly = {card: runs.get("fly", card) for card in ("inc", "ssi")}
+    ffil = {card: runs.get("full", card) for card in ("inc", "ssi")}
+    extf = {card: runs.get("external_full", card) for card in ("inc", "ssi")}
+    brk = {card: runs.get("braking", card) for card in ("inc", "ssi")}
+    lost = {card: runs.get("encoder_loss", card) for card in ("inc", "ssi")}
+    res["creep"] = runs.get("creep", "stp")
+    res["creep_starts"] = runs.get("creep_starts", "stp")
     for card in ("inc", "ssi", "stp"):
         print("-- MAC4-%s, four axes positioning, host sending back to back (moved %s)"
               % (card.upper(), ps.moved(res[card])))
@@ -141,7 +139,7 @@ def main():
             if not l.startswith("  ") and not l.startswith("cycles at"):
                 break
             print("  " + l)
-    w = ps.creep_wait([res["creep"], res["creep_starts"]])
+    w = runs.creep_wait()
     if w:
         creep = ("pulse interrupt worst %d cycles; with a tick of %d and a masked section of %d: %.0f Hz on four "
                  "axes, %.0f Hz on one (%.0f Hz on four without the masked section)" % (
@@ -149,12 +147,7 @@ def main():
     else:
         creep = "no pulse-count interrupts seen in the creep scenarios (moved %s, %s)" % (
             ps.moved(res["creep"]), ps.moved(res["creep_starts"]))
-    stp_ticks = {n: ps.worst(res[k], "timer") for n, k in (("moving", "stp"), ("creep", "creep"),
-                                                             ("creep_starts", "creep_starts"))}
-    stp_ticks["braking"] = ps.worst(brk["stp"], "timer")
-    stp_ticks["external"] = ps.worst(stp_ext, "timer")
-    stp_ticks["encoder_loss"] = ps.worst(lost["stp"], "timer")
-    stp_ticks["encoder"] = ps.worst(ps.run("stp", ps.stp_encoder()), "timer")
+    stp_ticks = {n: ps.worst(runs.get(n, "stp"), "timer") for n in ps.TICK_SCENARIOS["stp"]}
     print("-- MAC4-STP controller tick worst: %s (budget %d)"
           % (", ".join("%d %s" % (v or 0, n) for n, v in stp_ticks.items()), ps.BUDGET_STP_TICK))
     print("-- MAC4-STP creep phase: " + creep)
@@ -182,15 +175,11 @@ def main():
           % (ps.latency_ms(res["idle"]) or 0, res["idle"]["latency"].get("mean_us", 0) / 1000.0))
 
     # the UART's deadline: one character time at 4800 baud, both hosts busy
-    ser = {card: ps.run(card, ps.serial(card)) for card in ("inc", "ssi", "stp")}
+    ser = {card: runs.get("serial", card) for card in ("inc", "ssi", "stp")}
     uart_need = {}
     for card in ("inc", "ssi", "stp"):
-        tick = (max(v or 0 for v in stp_ticks.values()) if card == "stp" else
-                max(ps.worst(r[card], "timer") or 0 for r in (res, ffil, extf, brk, lost)))
         uart = ps.worst(ser[card], "uart") or 0
-        masked = max(ps.masked_worst(r) or 0 for r in (
-            (cmds["stp"], res["stp"], res["creep_starts"]) if card == "stp" else (cmds[card], whole[card], fly[card])))
-        uart_need[card] = ps.uart_wait(card, uart, masked, tick, w["pulse"] if (w and card == "stp") else 0)
+        uart_need[card] = runs.uart_need(card)     # the same bound as tests/timing
         st = ps.serial_stats(ser[card])
         print("-- MAC4-%s serial line busy (%d telegrams, %d answered, %d overruns) and the VME host back to back: "
               "UART interrupt worst %d cycles; its deadline, one character at 4800 baud: %d of %d cycles "
@@ -231,10 +220,9 @@ def main():
 
     inc = res["inc"]
     perf = {
-        # the worst tick of the scenarios: the default K-only gains; circular axes or external
-        # VME encoders with every filter term
-        "servo_tick_worst_cycles": max(ps.worst(r, "timer") or 0 for r in (inc, ffil["inc"], extf["inc"])),
-        "servo_tick_worst_cycles_ssi": max(ps.worst(r, "timer") or 0 for r in (res["ssi"], ffil["ssi"], extf["ssi"])),
+        # the worst tick of all the card's scenarios (perfscen.TICK_SCENARIOS)
+        "servo_tick_worst_cycles": runs.worst_tick("inc"),          # over perfscen.TICK_SCENARIOS
+        "servo_tick_worst_cycles_ssi": runs.worst_tick("ssi"),
         "servo_tick_worst_cycles_external_full_filter": {c: ps.worst(extf[c], "timer") for c in extf},
         "servo_tick_worst_cycles_k_only": {c: ps.worst(res[c], "timer") for c in ("inc", "ssi")},
         "servo_tick_worst_cycles_full_filter": {c: ps.worst(ffil[c], "timer") for c in ffil},
@@ -246,7 +234,7 @@ def main():
                                              for r in (res["ssi"], whole["ssi"], fly["ssi"])),
         "profile_tick_worst_cycles_cruising": {c: ps.profile_per_period(res[c]) for c in ("inc", "ssi")},
         # the worst of four axes positioning, four moves starting, four creep phases beginning
-        "stp_tick_worst_cycles": max(v or 0 for v in stp_ticks.values()),
+        "stp_tick_worst_cycles": runs.worst_tick("stp"),
         "stp_tick_worst_cycles_per_scenario": stp_ticks,
         "stp_profile_worst_cycles": ps.profile_per_period(res["stp"]),
         "stp_pulse_irq_worst_cycles": w["pulse"] if w else None,

@@ -96,10 +96,18 @@ def window_lines(ms, host_load, probes=(PROFILE_PROBE,), lead_ms=0):
     return out
 
 
+MOVING_LEAD_MS = {"inc": 200, "ssi": 200, "stp": 400}     # under way before a window opens
+
+
+def moving_start(card):
+    """The script of moving() up to its window: four axes positioning to
+    distant targets, under way."""
+    return setup_lines(card) + enable_lines(card) + move_lines(card, targets(card))
+
+
 def moving(card, ms=1000, host_load=True):
     """Four axes positioning to distant targets, the window while they move."""
-    lines = setup_lines(card) + enable_lines(card) + move_lines(card, targets(card))
-    lines += window_lines(ms, host_load, lead_ms=200 if card != "stp" else 400)
+    lines = moving_start(card) + window_lines(ms, host_load, lead_ms=MOVING_LEAD_MS[card])
     return "\n".join(lines) + "\n"
 
 
@@ -264,8 +272,7 @@ def braking(card, ms=300):
     every axis by itself (motion.c brake_now: <pd> per SP^2 divided into the
     four ticks) until the profile generator takes over at rest: the tick's
     braking path on four axes."""
-    lines = setup_lines(card) + enable_lines(card) + move_lines(card, targets(card))
-    lines += ["run %d" % (200 if card != "stp" else 400)] + positions_lines()
+    lines = moving_start(card) + ["run %d" % MOVING_LEAD_MS[card]] + positions_lines()
     lines += ["perf track on", "perf quiet on", "perf reset", "run 7", "poke16 0x4600 0x00AA",
               "run %d" % ms, "perf quiet off", "perf report"] + positions_lines()
     return "\n".join(lines) + "\n"
@@ -280,8 +287,7 @@ def serial(card, ms=1000):
     front-panel serial line (4800 baud, 3.3), telegrams one after the other
     (RCP, RBS, RFE, RAP on axes 1-4), each answered: the UART interrupt
     (level 4) for every byte received and sent."""
-    lines = setup_lines(card) + enable_lines(card) + move_lines(card, targets(card))
-    lines += ["run %d" % (200 if card != "stp" else 400)] + positions_lines()
+    lines = moving_start(card) + ["run %d" % MOVING_LEAD_MS[card]] + positions_lines()
     lines += ["perf track on", "perf quiet on", "perf reset", "perf host-load on"]
     lines += ["tx-msg %d %s" % (k % 4, ("RCP", "RBS", "RFE", "RAP")[k % 4]) for k in range(SERIAL_TELEGRAMS)]
     lines += ["run %d" % ms, "perf host-load off", "perf quiet off", "perf report", "serial-stats"]
@@ -350,6 +356,54 @@ def boot_ms(card):
         if m:
             return float(m.group(1))
     return None
+
+
+# Every scenario's script by name, one source for the budget tests and the bench.
+SCRIPTS = {
+    "moving": moving, "idle": idle, "commands": commands, "whole": whole_moves, "fly": on_the_fly,
+    "circular": circular, "full": full_filter, "external": external,
+    "external_full": lambda card: external(card, mode=FULL_FILTER), "braking": braking,
+    "encoder_loss": encoder_loss, "serial": serial,
+    "creep": lambda card: creep(), "creep_starts": lambda card: creep_starts(), "encoder": lambda card: stp_encoder(),
+}
+# The scenarios whose worst tick is the card's worst tick, and those with the
+# longest main-loop masked sections (the commands; the profile generator's
+# steps, which card_profile_tick runs masked).
+TICK_SCENARIOS = {
+    "inc": ("moving", "circular", "full", "external", "external_full", "braking", "encoder_loss"),
+    "stp": ("moving", "creep", "creep_starts", "braking", "external", "encoder_loss", "encoder"),
+}
+TICK_SCENARIOS["ssi"] = TICK_SCENARIOS["inc"]
+MASKED_SCENARIOS = {"inc": ("commands", "whole", "fly"), "ssi": ("commands", "whole", "fly"),
+                    "stp": ("commands", "moving", "creep_starts")}
+
+
+class Runs:
+    """Each scenario run once per card, on first use."""
+
+    def __init__(self):
+        self.done = {}
+
+    def get(self, name, card):
+        if (name, card) not in self.done:
+            self.done[(name, card)] = run(card, SCRIPTS[name](card))
+        return self.done[(name, card)]
+
+    def worst_tick(self, card):
+        return max(worst(self.get(n, card), "timer") or 0 for n in TICK_SCENARIOS[card])
+
+    def worst_masked(self, card):
+        return max(masked_worst(self.get(n, card)) or 0 for n in MASKED_SCENARIOS[card])
+
+    def creep_wait(self):
+        return creep_wait([self.get("creep", "stp"), self.get("creep_starts", "stp")])
+
+    def uart_need(self, card):
+        """The UART's deadline for card (uart_wait), from the serial scenario's
+        handler and the worst figures of all scenarios."""
+        w = self.creep_wait() if card == "stp" else None
+        return uart_wait(card, worst(self.get("serial", card), "uart") or 0, self.worst_masked(card),
+                         self.worst_tick(card), w["pulse"] if w else 0)
 
 
 KV = re.compile(r"(\w+)=(\S+)")

@@ -21,7 +21,6 @@ import pytest
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "tools"))
 import perfscen as ps  # noqa: E402
 
-_cache = {}
 
 # Budgets not met yet: the worst figure measured now (docs/performance.md,
 # "Where the firmware stands").  Lower them as the firmware improves.
@@ -60,19 +59,11 @@ def budget(key, value, limit, what):
     pytest.fail("%s: %s > %s" % (what, value, limit))
 
 
+_runs = ps.Runs()
+
+
 def scenario(name, card):
-    key = (name, card)
-    if key not in _cache:
-        text = {"moving": lambda: ps.moving(card), "idle": lambda: ps.idle(card), "creep": ps.creep,
-                "creep_starts": ps.creep_starts,
-                "whole": lambda: ps.whole_moves(card), "commands": lambda: ps.commands(card),
-                "fly": lambda: ps.on_the_fly(card), "full": lambda: ps.full_filter(card),
-                "circular": lambda: ps.circular(card), "external": lambda: ps.external(card),
-                "external_full": lambda: ps.external(card, mode=ps.FULL_FILTER),
-                "braking": lambda: ps.braking(card), "serial": lambda: ps.serial(card),
-                "encoder_loss": lambda: ps.encoder_loss(card), "encoder": ps.stp_encoder}[name]()
-        _cache[key] = ps.run(card, text)
-    return _cache[key]
+    return _runs.get(name, card)
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -111,8 +102,7 @@ def test_servo_tick_four_axes_moving(card):
     budget(("servo_tick", card), w, ps.BUDGET_SERVO_TICK, "%s servo tick worst, cycles" % card)
 
 
-# the tick's longer paths: circular axes and external encoders on the VMEbus
-# (the measurement), and with them every filter term and a torque limit
+# the tick's longer paths (perfscen.TICK_SCENARIOS): their NOT_YET_MET keys and names
 TICK_CONFIGS = {"circular": ("servo_tick_circular", "circular axes"),
                 "full": ("servo_tick_full", "circular axes, full filter"),
                 "external": ("servo_tick_external", "external VME encoders"),
@@ -122,7 +112,7 @@ TICK_CONFIGS = {"circular": ("servo_tick_circular", "circular axes"),
 
 
 @pytest.mark.parametrize("card", ["inc", "ssi"])
-@pytest.mark.parametrize("name", sorted(TICK_CONFIGS))
+@pytest.mark.parametrize("name", [n for n in ps.TICK_SCENARIOS["inc"] if n != "moving"])
 def test_servo_tick_four_axes_on_its_longer_paths(name, card):
     """The same budget on circular axes, and there with every term of the
     filter and a torque limit on every axis.  The axes must really move."""
@@ -164,10 +154,7 @@ def test_profile_generator_per_10ms_where_it_works_hardest(name, card):
 
 
 # ---- STP -------------------------------------------------------------------------------
-STP_TICK_SCENARIOS = ("moving", "creep", "creep_starts", "braking", "external", "encoder_loss", "encoder")
-
-
-@pytest.mark.parametrize("name", STP_TICK_SCENARIOS)
+@pytest.mark.parametrize("name", ps.TICK_SCENARIOS["stp"])
 def test_stp_controller_tick(name):
     """Four axes positioning; four short moves into the creep phase; four
     moves of one length, whose creep phases begin in the same tick; four
@@ -199,7 +186,7 @@ def test_stp_creep_pulse_interrupts_follow_1khz_on_four_axes():
     four axes at once."""
     # the creep scenarios: creeps of different lengths, and four that begin in one tick
     rs = [scenario(name, "stp") for name in ("creep", "creep_starts")]
-    w = ps.creep_wait(rs)
+    w = _runs.creep_wait()
     # a pulse that comes as the main loop masks waits for that section too
     # (the E that starts another axis' move; with the count in the axis
     # board, a late interrupt loses no step: tests/system/test_stp.py)
@@ -229,24 +216,9 @@ def test_the_tick_latency_stays_within_the_longest_masked_section(card):
 def test_every_tick_fits_its_period_when_it_is_delayed_most(card):
     """The longest masked section plus the worst tick fits one period: a
     tick is never lost, however a command delays it."""
-    mask = worst_masked(card)
-    tick = worst_tick(card)
+    mask = _runs.worst_masked(card)            # the scenarios: perfscen.MASKED_SCENARIOS, TICK_SCENARIOS
+    tick = _runs.worst_tick(card)
     assert mask + tick <= ps.PERIOD[card], "masked %d + tick %d > %d" % (mask, tick, ps.PERIOD[card])
-
-
-def worst_masked(card):
-    """The longest main-loop masked section of the scenarios that have the
-    long ones: the commands (the watchdog's stop of all axes last), and the
-    profile generator's steps (card_profile_tick runs masked), the longest
-    over whole moves and on the fly (STP: positioning and the creep)."""
-    names = ("commands", "moving", "creep_starts") if card == "stp" else ("commands", "whole", "fly")
-    return max(ps.masked_worst(scenario(name, card)) for name in names)
-
-
-def worst_tick(card):
-    """The worst controller tick of all the card's scenarios."""
-    names = STP_TICK_SCENARIOS if card == "stp" else ("moving",) + tuple(sorted(TICK_CONFIGS))
-    return max(ps.worst(scenario(name, card), "timer") for name in names)
 
 
 @pytest.mark.parametrize("card", ["inc", "ssi", "stp"])
@@ -263,11 +235,9 @@ def test_the_uart_interrupt_keeps_up_with_4800_baud(card):
     assert all(x >= 500 for x in ps.moved(r)), ps.moved(r)
     uart = ps.worst(r, "uart")
     assert uart, "no UART interrupt measured"
-    mask = worst_masked(card)
-    pulse = ps.creep_wait([scenario("creep", "stp"), scenario("creep_starts", "stp")])["pulse"] if card == "stp" else 0
-    need = ps.uart_wait(card, uart, mask, worst_tick(card), pulse)
+    need = _runs.uart_need(card)
     assert need <= ps.CHAR_CYCLES, "UART: masked %d + tick %d + pulses + handler %d = %d > %d cycles" % (
-        mask, worst_tick(card), uart, need, ps.CHAR_CYCLES)
+        _runs.worst_masked(card), _runs.worst_tick(card), uart, need, ps.CHAR_CYCLES)
 
 
 @pytest.mark.parametrize("card", ["inc", "ssi", "stp"])
@@ -275,7 +245,7 @@ def test_masked_sections_within_a_tenth_of_the_period(card):
     """The sampling instant of the INC counter and the output instant of
     every card move with the tick's latency: at most 10% of the period, as
     for the tick itself (docs/performance.md)."""
-    mask = worst_masked(card)
+    mask = _runs.worst_masked(card)
     budget(("masked", card), mask, ps.PERIOD[card] // 10, "%s longest masked section, cycles" % card)
 
 
