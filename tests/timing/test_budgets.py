@@ -277,7 +277,7 @@ def test_command_latency_idle_card_is_measured():
 @pytest.mark.parametrize("card", ["inc", "ssi", "stp"])
 def test_boot_is_ready_within_its_guard(card):
     """Reset to display $5: RAM test and EPROM check sum (docs/performance.md,
-    "Boot"); 905 ms before the check sum took its bytes in halves."""
+    "Boot"); 911 ms before the check sum took its bytes in halves."""
     ms = ps.boot_ms(card)
     assert ms is not None and ms <= ps.BOOT_GUARD_MS, "%s boot %s ms" % (card, ms)
 
