@@ -153,12 +153,6 @@ void measure_ext(axis_t *x, meas_cfg_t *c, unsigned n)
     measure_apply(x, d);
 }
 
-void measure_axis(unsigned n)
-{
-    if (axis_initialised(n))                            /* position reads 0 before INIT (4.9) */
-        measure_ext(axis_at[n], &meas_cfg[n], n);
-}
-
 void measure_init(unsigned n)
 {
     axis_t *x = axis_at[n];

@@ -8,7 +8,6 @@
 #include "stepper.h"
 #endif
 
-void measure_axis(unsigned n);     /* an external position (<et> 3/4), for a variable axis */
 void measure_init(unsigned n);     /* INIT: derive <ea>/<eb>/<ec>, zero relative position */
 /* May an external position (<et> 3/4) be read at <ea> with <eb> significant
  * bits (eb 0: not known yet)?  The rule of docs/interpretations.md. */
@@ -97,8 +96,8 @@ static inline __attribute__((always_inline)) int32_t measure_delta(const axis_t 
     return measure_delta_k(x, c, raw, 0);
 }
 
-/* SSI at the connector, everything prepared at INIT (the tick's path and
- * measure_axis'): the receiver read the encoder at the timer's expiry
+/* SSI at the connector, everything prepared at INIT (the tick's path; INIT
+ * itself reads with measure.c's read_raw): the receiver read the encoder at the timer's expiry
  * (AX_CTRL_SSI_SYNC) and the tick came when it was done (TMR_CTRL_SSI_WAIT;
  * the poll is the safety net).  0 and the motion since the last reading, or
  * -1 after an encoder error. */

@@ -136,7 +136,7 @@ def configured(card, system=(), mode=(), shift=0, ms=1000):
 def external(card, mode=()):
     """moving() with each axis measured by an absolute encoder board on the
     VMEbus (<et> 4, 24 bits at $80C000 + $10 n, 4 000 counts per turn: the
-    manual's 7.2 SSI example has one), which measure_axis reads over the
+    manual's 7.2 SSI example has one), which measure_ext reads over the
     master window in every tick: the external path."""
     boards = ["vme-encoder $%X %d bits 24 res 4000 turns 0" % (0x80C000 + 0x10 * a, a) for a in AXES]
     system = []

@@ -673,7 +673,7 @@ RAMP = {"drop", "off"}            # a reaction with the <ed> ramp: braking or al
 # The firmware bugs the matrix shows (docs/hardening.md, "Fault matrix"): the
 # strict xfails below fail only with the findings they name.
 K2 = ("K2: an absolute position outside <ec> raises encoder_f and the report 163 again in every tick "
-      "while the value stays (measure.c, measure_axis -> axis_error): the RBS after the report is answered "
+      "while the value stays (measure.c, measure_ext -> axis_error): the RBS after the report is answered "
       "163 again, and so is C (not executed) until the host's encoder is valid again")
 K4 = ("K4: q_check() validates the command queue header, then q_get() reads front and rear again: a host "
       "write in between makes the card take an element at an unchecked index (one past the queue, the "
