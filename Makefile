@@ -48,7 +48,7 @@ IMAGES := $(foreach c,$(CARDS),$(B)/eprom/mac4-$(c).bin)
 all: images $(B)/mac4sim $(B)/commands.json
 
 deps: $(MUS)/.stamp
-$(MUS)/.stamp: tools/bootstrap.sh tools/deps/pypi.txt
+$(MUS)/.stamp: tools/bootstrap.sh tools/deps/pypi.txt tools/deps/apt.txt tools/deps/python.txt
 	@BUILD=$(B) CROSS=$(CROSS) tools/bootstrap.sh
 
 images: $(IMAGES)
@@ -160,7 +160,7 @@ test: all unit system
 system: all
 	$(PYTHON) -m pytest -q tests/system
 
-# ---- issue 6: native/68000 agreement, cycle budgets, benchmark ---------------
+# ---- native/68000 agreement, cycle budgets, benchmark ---------------
 # (docs/performance.md; `test: differential timing` is the last line of this
 # file, so that a budget the firmware misses does not keep the other tests
 # from running)
@@ -197,5 +197,5 @@ cppcheck: deps
 	@echo "cppcheck firmware/ hal/native/ (HAL_NATIVE)"
 	@$(CPPCHECK) $(CPPCHECK_FLAGS) -DHAL_NATIVE -DMAC4_CARD=0 -Iharness firmware hal/native
 
-# issue 6: native/68000 agreement and the cycle budgets last (docs/performance.md)
+# native/68000 agreement and the cycle budgets last (docs/performance.md)
 test: differential timing

@@ -144,7 +144,7 @@ int mac4_int_ack(int level)
         estop_irq_ack(g_sim);
         /* The edge is taken: lower the line now.  Otherwise Musashi, which
          * also lets level 7 trigger by level, takes it again after the RTE
-         * whenever the handler touched no I/O register (issue 6). */
+         * whenever the handler touched no I/O register. */
         sim_update_irq(g_sim);
     }
     irq_enter(g_sim, level);

@@ -1,6 +1,6 @@
 /*
- * perf.c - measurement without instrumenting the firmware (issue 6,
- * docs/performance.md): host-script commands `perf ...` and `run-ticks N`.
+ * perf.c - measurement without instrumenting the firmware (docs/performance.md):
+ * host-script commands `perf ...` and `run-ticks N`.
  *
  *   perf reset             start a measurement window now: interrupt table,
  *                          load, latency and probe statistics from zero
@@ -585,7 +585,7 @@ static void print_net(void)
         stat_print("perf-net", src_key[i], &net[i]);
 }
 
-/* The cycle table for people, with the budgets of issue 6 (docs/performance.md):
+/* The cycle table for people, with the budgets (docs/performance.md):
  * the servo tick 10% of its period, the profile generator 6000 cycles per
  * 10 ms (INC/SSI) or 10% of 32 ms (STP), the whole card 25%, a command 2 ms. */
 static void print_table(sim_t *s)

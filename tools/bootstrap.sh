@@ -7,21 +7,13 @@ cd "$(dirname "$0")/.."
 BUILD=${BUILD:-build}
 CROSS=${CROSS:-m68k-linux-gnu-}
 
+# Debian packages: every line of tools/deps/apt.txt that is not installed.
 need=()
-have_cmd() { command -v "$1" >/dev/null 2>&1; }
-have_cmd "${CROSS}gcc" || need+=(gcc-m68k-linux-gnu)
-have_cmd "${CROSS}objcopy" || need+=(binutils-m68k-linux-gnu)
-[ -f /usr/include/cmocka.h ] || need+=(libcmocka-dev)
-have_cmd pkg-config || need+=(pkg-config)
-have_cmd python3 || need+=(python3)
-have_cmd cc || need+=(gcc)
-have_cmd make || need+=(make)
-# hardening (docs/hardening.md): the qemu-m68k witness, cppcheck, and
-# libFuzzer with clang for `make fuzz` (llvm: llvm-cov for `make fuzz-cov`)
-have_cmd qemu-m68k || need+=(qemu-user)
-have_cmd cppcheck || need+=(cppcheck)
-have_cmd clang || need+=(clang)
-have_cmd llvm-cov || need+=(llvm)
+while read -r pkg; do
+    pkg=${pkg%%#*}; pkg=${pkg//[[:space:]]/}
+    [ -n "$pkg" ] || continue
+    dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q 'install ok installed' || need+=("$pkg")
+done < tools/deps/apt.txt
 apt_updated=0
 apt_install() {
     echo "bootstrap: installing Debian packages: $*"
@@ -35,21 +27,21 @@ apt_install() {
 if [ ${#need[@]} -gt 0 ]; then
     apt_install "${need[@]}"
 fi
-# libFuzzer's runtime comes in a package named after clang's major version
-if have_cmd clang; then
-    fuzzer_lib=$(clang --print-file-name="libclang_rt.fuzzer-$(uname -m).a")
-    if [ ! -f "$fuzzer_lib" ]; then
-        apt_install "libclang-rt-$(clang -dumpversion | cut -d. -f1)-dev"
-    fi
-fi
 
-# pytest drives the system tests
-if ! python3 -c 'import pytest' 2>/dev/null; then
-    echo "bootstrap: installing pytest from PyPI"
-    python3 -m pip install -q "pytest==8.3.3" 2>/dev/null || {
-        SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
-        $SUDO apt-get install -y -qq python3-pytest
-    }
+# Python packages: every pin of tools/deps/python.txt not installed at that version.
+pyneed=()
+while read -r spec; do
+    spec=${spec%%#*}; spec=${spec//[[:space:]]/}
+    [ -n "$spec" ] || continue
+    name=${spec%%==*}; ver=${spec##*==}
+    have=$(python3 -c 'import sys, importlib.metadata as m
+try: print(m.version(sys.argv[1]))
+except m.PackageNotFoundError: print("")' "$name")
+    [ "$have" = "$ver" ] || pyneed+=("$spec")
+done < tools/deps/python.txt
+if [ ${#pyneed[@]} -gt 0 ]; then
+    echo "bootstrap: installing from PyPI: ${pyneed[*]}"
+    python3 -m pip install -q "${pyneed[@]}"
 fi
 
 # Musashi: the pinned sdist, hash-checked, only src/musashi unpacked.
@@ -61,10 +53,20 @@ if [ ! -f "$MUS/.stamp" ]; then
     dl="$BUILD/deps/download"
     rm -rf "$dl" "$MUS"
     mkdir -p "$dl" "$MUS"
-    echo "bootstrap: fetching $spec (source distribution) from PyPI"
-    python3 -m pip download -q --no-deps --no-binary :all: -d "$dl" "$spec"
+    # the checked sdist is kept in a cache outside the tree, shared by clones;
+    # --no-binary names machine68k alone: with :all: pip builds the sdist's
+    # build requirements (Cython) from source to read its metadata, minutes
+    cache=${MAC4_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/mac4}
+    cached="$cache/$sha.tar.gz"
+    if [ -f "$cached" ] && echo "$sha  $cached" | sha256sum -c --quiet - 2>/dev/null; then
+        cp "$cached" "$dl/${spec/==/-}.tar.gz"
+    else
+        echo "bootstrap: fetching $spec (source distribution) from PyPI"
+        python3 -m pip download -q --no-deps --no-binary "${spec%%==*}" -d "$dl" "$spec"
+    fi
     tarball=$(ls "$dl"/machine68k-*.tar.gz)
     echo "$sha  $tarball" | sha256sum -c --quiet - || { echo "bootstrap: hash mismatch for $tarball" >&2; exit 1; }
+    mkdir -p "$cache" && cp "$tarball" "$cached" 2>/dev/null || true
     top=$(basename "$tarball" .tar.gz)
     tar xzf "$tarball" -C "$dl" "$top/src/musashi"
     cp -r "$dl/$top/src/musashi/." "$MUS/"

@@ -1,4 +1,4 @@
-"""perfscen.py - the measurement scenarios of issue 6 (docs/performance.md),
+"""perfscen.py - the measurement scenarios (docs/performance.md),
 shared by the budget tests (tests/timing) and `make bench` (tools/bench.py).
 
 Every scenario is a host script for build/mac4sim.  "Four axes moving":
@@ -25,7 +25,7 @@ CPU_HZ = 16000000
 PERIOD = {"inc": 40000, "ssi": 40000, "stp": 128000}      # controller tick, cycles
 PROFILE_PERIOD = {"inc": 160000, "ssi": 160000, "stp": 512000}
 
-# budgets of issue 6
+# budgets
 BUDGET_SERVO_TICK = 4000                  # INC/SSI, cycles, 10% of 2.5 ms
 BUDGET_PROFILE_SERVO = 6000               # INC/SSI, cycles per 10 ms
 BUDGET_STP_TICK = PERIOD["stp"] // 10     # 10% of 8 ms
@@ -343,7 +343,7 @@ def creep_wait(results):
 
 
 # Boot (display $1 .. $5, manual 2.5.2): the RAM test and the EPROM check sum
-# take nearly all of it.  Not a budget of issue 6: a guard that the figure
+# take nearly all of it.  Not a budget: a guard that the figure
 # (docs/performance.md, "Boot") does not creep back.
 BOOT_GUARD_MS = 600.0
 
@@ -535,7 +535,7 @@ def stack(card):
                               os.path.join(BUILD, "eprom", "mac4-%s.map" % card))
 
 
-# ---- issue 4: following error and settling of a standard move (make bench) ----------
+# ---- following error and settling of a standard move (make bench) ----------
 # The manual's example configurations of 7.2 (tests/scenarios/, the card and
 # the machine), axis 1, one standard move: WPV 100, WPA 10, WPD 10 (10 000
 # increments or counts per second), INC 20 000 increments (2.5 output

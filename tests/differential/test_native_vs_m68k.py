@@ -1,4 +1,4 @@
-"""Native and 68000 agree (issue 6): the same scenario through the EPROM image
+"""Native and 68000 agree: the same scenario through the EPROM image
 on Musashi and through the firmware compiled for the host gives bit-identical
 DAC words (step rates), counters, published axis data and responses, tick for
 tick.  A difference is a bug in one of the two builds (endianness, integer

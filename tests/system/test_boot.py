@@ -1,4 +1,4 @@
-"""Issue 2: the EPROM images boot on the emulated IPC card."""
+"""The EPROM images boot on the emulated IPC card."""
 import binascii
 import os
 import shutil

@@ -1,4 +1,4 @@
-"""Issue 3: the command interface of the EPROM image, driven through the
+"""The command interface of the EPROM image, driven through the
 DPRAM queues exactly as a VME host does."""
 import pytest
 

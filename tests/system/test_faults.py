@@ -1,4 +1,4 @@
-"""Issue 7: the fault matrix.  Every fault the emulator can inject, each with
+"""The fault matrix.  Every fault the emulator can inject, each with
 the reaction the manual gives (sections 2.1.3, 2.5.1, 3.5.1, 4.6, 4.7, 4.8,
 6.3; where the manual is silent, docs/interpretations.md), as one table
 (MATRIX) and one test that applies the same checks to every row:

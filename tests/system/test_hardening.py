@@ -1,4 +1,4 @@
-"""Hardening checks of issue 7 that belong with the system tests
+"""Hardening checks that belong with the system tests
 (docs/hardening.md): the EPROM images are 68000 code, and the checker that
 says so fails when it should; the guard against emulator faults; warnings
 as errors and cppcheck configured so that they bite."""

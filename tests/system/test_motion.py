@@ -1,4 +1,4 @@
-"""Issue 4: closed-loop motion on MAC4-INC and MAC4-SSI against the plant
+"""Closed-loop motion on MAC4-INC and MAC4-SSI against the plant
 models, end to end through the EPROM image."""
 import re
 

@@ -1,9 +1,9 @@
-"""Issue 4, the motion tests the first round left out: 5.15 example 1 (find
+"""The motion tests the first round left out: 5.15 example 1 (find
 edge against brake, on-fly and off-fly), find edge to the positive limit
 switch, the MAC4-INC and MAC4-SSI example configurations of 7.2 exactly as
 the manual gives them (tests/scenarios/), a drive fault in test mode (no
 ramp, 4.8.2), circular-optimised axes and WZP, and the protective reactions
-"within one servo period of the event" (issue 4, Tests) measured in the
+"within one servo period of the event" measured in the
 per-tick outputs (`perf ticks`).
 
 Strict xfails name the firmware finding that makes them fail; each fails only

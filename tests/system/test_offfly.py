@@ -1,7 +1,7 @@
 """Off-fly operation (manual 5.15, docs/interpretations.md "Off-fly"):
 commands for an axis whose move runs off-fly wait, in the order they came,
 until the move ends; reads and C are answered at once, and the other axes
-are not held up.  Issue 3: a command held behind a move that never ends (a
+are not held up.  A command held behind a move that never ends (a
 search that finds no index) used to hold the whole card."""
 import pytest
 

@@ -1,4 +1,4 @@
-"""Host-script tooling of issue 4: plant scenario files (`include FILE`,
+"""Host-script tooling: plant scenario files (`include FILE`,
 tests/scenarios/*.mac4), the reversed motor wiring of the plant, and the
 card-side columns of `trace` (docs/host-script.md, "Plant")."""
 import csv

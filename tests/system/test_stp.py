@@ -1,4 +1,4 @@
-"""Issue 5: the MAC4-STP end to end - the EPROM image in the emulator against
+"""The MAC4-STP end to end - the EPROM image in the emulator against
 the stepper plant (docs/plant.md): open-loop step generation, the start/stop
 frequency rule (5.14), BOOST (4.1.4), TURBO (4.1.3), the creep phase of
 positioning (5.6, diagram 5.2), encoder feedback (4.4.2.3) and the

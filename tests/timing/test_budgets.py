@@ -1,4 +1,4 @@
-"""Cycle budgets of issue 6 as tests (docs/performance.md).
+"""Cycle budgets as tests (docs/performance.md).
 
 Everything is measured by the emulator on the EPROM images (build/mac4sim,
 `perf` commands, harness/perf.c): cycles from interrupt acknowledge to RTE,
