@@ -712,7 +712,7 @@ void card_supervise_tick(void)
     vme_irq_service();
 }
 
-void fw_isr_axis(void)
+HAL_ISR void fw_isr_axis(void)
 {
     /* The STP's creep phase counts its pulses here (stepper.c).  The index
      * latch is polled by the supervision (the searches); its interrupt is

@@ -216,6 +216,9 @@ void motion_plan(unsigned n, motion_plan_t *p)
     /* <trt> in whole sampling periods, rounded up (5.6) */
     uint32_t sp_ms = MAC4_CARD == MAC4_CARD_STP ? 32u : 10u;
     p->trt_periods = (uint16_t)divu16((uint32_t)PAR(n, TRT) + sp_ms - 1u, (uint16_t)sp_ms);   /* <trt> < 2^16 */
+#if MAC4_CARD == MAC4_CARD_STP
+    stp_motion_plan(n, vq(n, PAR(n, SSF)), &p->stp);   /* <ssf>, <lv>, TURBO (stepper.c) */
+#endif
 }
 
 void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p)
@@ -245,7 +248,7 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
         break;
     }
 #if MAC4_CARD == MAC4_CARD_STP
-    stp_motion_start(n, mode, vq(n, PAR(n, SSF)));   /* creep phase, <lv>, TURBO (stepper.c) */
+    stp_motion_start(n, mode, &p->stp);             /* creep phase, <lv>, TURBO (stepper.c) */
 #endif
     /* the velocities and the cruise limits of the new mode and target: in
      * the command, not in the profile generator's next step, but after the

@@ -3,15 +3,18 @@
 #define MOTION_H
 #include <stdint.h>
 #include "card.h"
+#include "stepper.h"            /* stp_plan_t */
 
 /* What an E sets up from its parameters, computed before its masked
  * commit (motion_start): the target from the position of the moment, with
  * interrupts masked (motion_plan_target, from the written <ap>); the gains
- * and <trt> from the activated parameters, unmasked (motion_plan). */
+ * and <trt> from the activated parameters, and on the STP <ssf> on the rate
+ * grid and the creep's rate, unmasked (motion_plan). */
 typedef struct {
     servo_gains_t gains;
     uint16_t trt_periods;
     int64_t target;
+    stp_plan_t stp;
 } motion_plan_t;
 void motion_plan_target(unsigned n, uint8_t mode, motion_plan_t *p);
 void motion_plan(unsigned n, motion_plan_t *p);

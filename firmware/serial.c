@@ -237,7 +237,7 @@ void serial_reset(void)
 
 /* ---- interrupt level 4 --------------------------------------------------- */
 
-void fw_isr_uart(void)
+HAL_ISR void fw_isr_uart(void)
 {
     uint16_t st = hal_rd16(UART_STATUS);      /* reading clears OVERRUN and FRAMING */
     if (st & (UART_ST_OVERRUN | UART_ST_FRAMING | UART_ST_RXRDY))

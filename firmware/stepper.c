@@ -493,20 +493,27 @@ static inline __attribute__((always_inline)) int creep_tick(axis_t *x, stp_t *s,
 }
 
 /* ---- motion (motion.c, main loop) ----------------------------------------- */
-void stp_motion_start(unsigned n, uint8_t mode, int64_t ssf)
+void stp_motion_plan(unsigned n, int64_t ssf, stp_plan_t *pl)
+{
+    /* TURBO and USR change only at stand-still, before the next E */
+    pl->turbo = (axis_at[n]->sstat & SB(TURBO)) ? AX_CTRL_TURBO : 0;
+    pl->ssf = (int32_t)stp_ssf_grid(ssf, pl->turbo != 0);   /* at most 0x7FFFFFFF */
+    uint16_t lv = (uint16_t)(stp_rate_hz((uint32_t)PAR(n, LV)) >> PAR(n, SF));
+    pl->lv_rate = lv ? lv : 1u;
+}
+
+void stp_motion_start(unsigned n, uint8_t mode, const stp_plan_t *pl)
 {
     axis_t *x = axis_at[n];
     stp_t *s = &stp_ax[n];
     if (s->creep != CREEP_IDLE)
         creep_abort(n);
-    /* TURBO and USR change only at stand-still, before the next E */
-    uint16_t turbo = (x->sstat & SB(TURBO)) ? AX_CTRL_TURBO : 0;
+    uint16_t turbo = pl->turbo;
     s->clocks = turbo ? STP_TICK_CLOCKS_TURBO : STP_TICK_CLOCKS;
     s->lim = (uint32_t)s->clocks << 16;
     s->obits = (uint16_t)((s->obits & AX_CTRL_BOOST) | turbo | stp_dir_bit(x, s->dir));
-    s->ssf = (int32_t)stp_ssf_grid(ssf, turbo != 0);   /* at most 0x7FFFFFFF */
-    uint16_t lv = (uint16_t)(stp_rate_hz((uint32_t)PAR(n, LV)) >> PAR(n, SF));
-    s->lv_rate = lv ? lv : 1u;
+    s->ssf = pl->ssf;
+    s->lv_rate = pl->lv_rate;
     if (mode == M_POSITIONING) {
         /* the ramps end <stc> steps before the target, on the near side */
         int64_t rem = x->target - x->prof.pos, stc = (int64_t)PAR(n, STC) << 16;

@@ -13,6 +13,14 @@
 #include "profile.h"
 #include "mul16.h"
 
+/* The STP's part of an E's plan (motion.h motion_plan_t), computed before
+ * the masked commit: stp_motion_plan, stp_motion_start. */
+typedef struct {
+    int32_t ssf;                /* <ssf> on the rate register's grid, Q16 steps per SP */
+    uint16_t lv_rate;           /* the creep's rate register value for <lv> */
+    uint16_t turbo;             /* AX_CTRL_TURBO or 0 */
+} stp_plan_t;
+
 /* ---- arithmetic -------------------------------------------------------- */
 /* DIVU.W: 32 / 16 bits, the quotient (it must fit 16 bits) in the low word,
  * the remainder in the high word. */
@@ -142,7 +150,11 @@ int32_t stp_counts(unsigned n);               /* position counter in its units (
 int32_t stp_edge(unsigned n, int32_t d);      /* index latched d counts from here: steps */
 int32_t stp_tol(unsigned n);                  /* steps the encoder ratio leaves open */
 /* motion (motion.c) */
-void stp_motion_start(unsigned n, uint8_t mode, int64_t ssf);    /* E */
+/* E: the parameters' part, unmasked (motion_plan: from the activated
+ * parameters and TURBO, which only commands change), then the commit,
+ * masked (motion_start).  stp_plan_t is motion.h's. */
+void stp_motion_plan(unsigned n, int64_t ssf, stp_plan_t *pl);
+void stp_motion_start(unsigned n, uint8_t mode, const stp_plan_t *pl);
 void stp_status(unsigned n);                  /* once per SP: TURBO, status bits */
 int stp_positioning(unsigned n, int64_t vmax, int64_t acc, int64_t dec, int64_t ssf);
 void stp_profile_end(unsigned n, int64_t before, int64_t before_vel);  /* BOOST gate */

@@ -25,6 +25,7 @@
  * mask for hal_irq_restore().  Inline on the target: they guard short
  * critical sections in the tick's neighbourhood. */
 #if !defined(HAL_TARGET)
+#define HAL_ISR                 /* the emulator calls the handlers as functions */
 unsigned hal_irq_save(void);
 void hal_irq_restore(unsigned prev);
 void hal_irq_enable_all(void);

@@ -3,6 +3,12 @@
 #define HAL_TARGET_H
 #include <stdint.h>
 
+/* An interrupt handler the vector enters directly (vectors.S): it saves
+ * the registers it uses and returns with RTE, where an entry stub would
+ * save four and call it (docs/performance.md: the level-5 pulse and level-4
+ * UART handlers, which the UART's deadline counts a dozen times). */
+#define HAL_ISR __attribute__((interrupt_handler))
+
 static inline uint8_t hal_rd8(uint32_t a) { return *(volatile uint8_t *)a; }
 static inline uint16_t hal_rd16(uint32_t a) { return *(volatile uint16_t *)a; }
 static inline uint32_t hal_rd32(uint32_t a) { return *(volatile uint32_t *)a; }

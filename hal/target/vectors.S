@@ -17,9 +17,9 @@ _vectors:
     .elseif vnum == 1
     .long   _start                      /* initial PC */
     .elseif vnum == 24 + IRQ_LEVEL_UART
-    .long   _isr_uart
+    .long   fw_isr_uart                 /* HAL_ISR: saves what it uses, ends in RTE */
     .elseif vnum == 24 + IRQ_LEVEL_AXIS
-    .long   _isr_axis
+    .long   fw_isr_axis                 /* HAL_ISR */
     .elseif vnum == 24 + IRQ_LEVEL_TIMER
     .long   _isr_tick
     .elseif vnum == 24 + IRQ_LEVEL_ESTOP
@@ -42,8 +42,6 @@ _vectors:
     .endm
 
     isr     _isr_tick,  fw_isr_tick
-    isr     _isr_axis,  fw_isr_axis
-    isr     _isr_uart,  fw_isr_uart
     isr     _isr_estop, fw_isr_estop
 
     .globl  _fault_stubs
