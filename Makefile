@@ -36,7 +36,7 @@ MUSOBJ   := $(B)/musashi/m68kcpu.o $(B)/musashi/m68kops.o $(B)/musashi/m68kdasm.
 MUSCFLAGS := -std=gnu99 -O2 -g -w -I$(MUS) -Iharness -Ihal -DMUSASHI_CNF='"musashi_cnf.h"'
 
 HARNESS_CORE := harness/sim.c harness/bus.c harness/periph.c harness/axisboard.c harness/host.c harness/run.c \
-                harness/plant.c harness/plant_vme.c
+                harness/plant.c harness/plant_vme.c harness/buswait.c
 HARNESS_SRCS := $(HARNESS_CORE) \
                 harness/script.c harness/script_serial.c harness/serial_host.c harness/script_plant.c harness/cpu_m68k.c harness/profile.c harness/cmdnames.c harness/mac4sim.c \
                 harness/perf.c
@@ -166,10 +166,16 @@ system: all
 # from running)
 differential: all native
 	$(PYTHON) -m pytest -q tests/differential
-timing: all
+timing: all $(B)/busvectors
 	$(PYTHON) -m pytest -q tests/timing
 bench: all $(B)/mac4bare
 	$(PYTHON) tools/bench.py
+
+# ---- bus timing: the wait-state model against the 68000 reference vectors ----
+# (docs/memory-map.md, "Bus timing"; tests/timing/test_bus_timing.py)
+$(B)/busvectors: tests/timing/busvectors.c harness/buswait.c harness/buswait.h hal/mac4_map.h $(MUSOBJ)
+	$(HOSTCC) $(HOSTCFLAGS) -Iharness -Ihal -I$(MUS) -DMUSASHI_CNF='"musashi_cnf.h"' \
+		tests/timing/busvectors.c harness/buswait.c $(MUSOBJ) -lm -o $@
 
 demo: all
 	@tools/demo.sh

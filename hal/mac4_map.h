@@ -265,6 +265,40 @@
 #define IRQ_LEVEL_AXIS         5
 #define IRQ_LEVEL_UART         4
 
+/* ---- bus timing: what each access costs (docs/memory-map.md, "Bus timing") -
+ * A 68000 bus cycle is 4 clocks with no wait state; every wait state adds
+ * one clock.  Per region of the local map and per access kind, the wait
+ * states the card's DTACK logic inserts: defaults chosen from the parts a
+ * 16 MHz card of 1993 would carry (docs/memory-map.md says which and why);
+ * the manual gives none.  The emulator charges them per bus cycle (a long
+ * access is two) and takes others with --wait-states.  One row per region
+ * of harness/bus.c; tools/mac4map.py reads this table for the Python side.
+ *          name      base               size                    read write */
+#define MAC4_BUS_TIMING(X) \
+    X(dpram,    DPRAM_BASE,        DPRAM_SIZE,                1,   1) \
+    X(eprom,    EPROM_BASE,        EPROM_SIZE,                1,   1) \
+    X(sram,     SRAM_BASE,         SRAM_SIZE,                 0,   0) \
+    X(vme,      VME_WIN_BASE,      VME_WIN_SIZE,             12,  12) \
+    X(sys,      IO_BASE + 0x000,   0x10,                      2,   2) \
+    X(timer,    IO_BASE + 0x100,   0x10,                      2,   2) \
+    X(uart,     IO_BASE + 0x200,   0x10,                      2,   2) \
+    X(virq,     IO_BASE + 0x300,   0x10,                      2,   2) \
+    X(watchdog, IO_BASE + 0x400,   0x02,                      2,   2) \
+    X(axis,     AXIS_BASE,         MAC4_NAXES * AXIS_STRIDE,  3,   3) \
+    X(axisirq,  AXIS_IRQ_PENDING,  0x02,                      3,   3)
+/* A VME host's access to a DPRAM word holds that word for this many clocks
+ * (its slave cycle, strobe to DTACK); the card's access to the same word in
+ * that time waits for the rest of it (the dual-port parts' BUSY). */
+#define MAC4_DPRAM_HOST_CLOCKS 6
+/* The interrupt acknowledge: Musashi's 44-cycle interrupt assumes a 4-clock
+ * IACK cycle.  Autovectored (the card's way, through VPA) it is a M6800
+ * cycle synchronised to E (CLK/10, 6 clocks low, 4 high): 10 clocks when E
+ * is in phase, 19 at worst; the model charges the worst, so every figure
+ * bounds the card's.  Vectored, it is a 4-clock cycle with the
+ * interrupter's wait states. */
+#define MAC4_IACK_AUTOVECTOR_CLOCKS 19
+#define MAC4_IACK_VECTORED_WAIT     2
+
 /* ---- timing (manual 7.4) ------------------------------------------------ */
 #define SERVO_PERIOD_US_SERVO  2500u   /* INC/SSI controller 2.5 ms */
 #define SERVO_PERIOD_US_STP    8000u   /* STP controller 8 ms */

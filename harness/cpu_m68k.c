@@ -9,6 +9,7 @@
 #include "cpu.h"
 #include "periph.h"
 #include "profile.h"
+#include "buswait.h"
 
 static int expect_vector;   /* an interrupt acknowledge precedes its vector fetch */
 static int in_slice;        /* m68k_cycles_run() is only meaningful inside m68k_execute */
@@ -64,18 +65,42 @@ static inline const uint8_t *mem_fast(unsigned a, unsigned n)
     return NULL;
 }
 
+/* Bus timing (buswait.h, hal/mac4_map.h MAC4_BUS_TIMING): every bus
+ * cycle's wait states are charged to the slice as it is made, and a DPRAM
+ * access waits for a word the VME host holds.  The EPROM answers at $0
+ * while the boot overlay is on. */
+static inline void bus_cycles(unsigned a, int write, unsigned n)
+{
+    if (!in_slice)      /* the reset's vector fetch: Musashi counts no time for it */
+        return;
+    a &= 0xFFFFFF;
+    unsigned w;
+    if (a < DPRAM_SIZE && (g_sim->sysctl & SYS_CTRL_OVERLAY) && !write) {
+        w = buswait_charge(EPROM_BASE + a, 0, n);
+    } else {
+        w = buswait_charge(a, write, n);
+        if (a < DPRAM_SIZE)
+            w += buswait_dpram_contention(g_sim->slice_base + (cyc_t)m68k_cycles_run(), a);
+    }
+    if (w)
+        USE_CYCLES((int)w);
+}
+
 unsigned int m68k_read_memory_8(unsigned int a)
 {
+    bus_cycles(a, 0, 1);
     const uint8_t *m = mem_fast(a & 0xFFFFFF, 1);
     return m ? m[0] : bus_read(g_sim, a, 1);
 }
 unsigned int m68k_read_memory_16(unsigned int a)
 {
+    bus_cycles(a, 0, 1);
     const uint8_t *m = mem_fast(a & 0xFFFFFF, 2);
     return m ? (unsigned)m[0] << 8 | m[1] : bus_read(g_sim, a, 2);
 }
 unsigned int m68k_read_memory_32(unsigned int a)
 {
+    bus_cycles(a, 0, 2);
     const uint8_t *m = mem_fast(a & 0xFFFFFF, 4);
     if (m)
         return (unsigned)m[0] << 24 | (unsigned)m[1] << 16 | (unsigned)m[2] << 8 | m[3];
@@ -90,6 +115,7 @@ static inline uint8_t *sram_fast(unsigned a, unsigned n)
 }
 void m68k_write_memory_8(unsigned int a, unsigned int v)
 {
+    bus_cycles(a, 1, 1);
     uint8_t *m = sram_fast(a, 1);
     if (m)
         m[0] = (uint8_t)v;
@@ -98,6 +124,7 @@ void m68k_write_memory_8(unsigned int a, unsigned int v)
 }
 void m68k_write_memory_16(unsigned int a, unsigned int v)
 {
+    bus_cycles(a, 1, 1);
     uint8_t *m = sram_fast(a, 2);
     if (m) {
         m[0] = (uint8_t)(v >> 8);
@@ -108,6 +135,7 @@ void m68k_write_memory_16(unsigned int a, unsigned int v)
 }
 void m68k_write_memory_32(unsigned int a, unsigned int v)
 {
+    bus_cycles(a, 1, 2);
     uint8_t *m = sram_fast(a, 4);
     if (m) {
         m[0] = (uint8_t)(v >> 24);
@@ -149,6 +177,10 @@ int mac4_int_ack(int level)
     }
     irq_enter(g_sim, level);
     expect_vector = 1;
+    /* the acknowledge cycle: through VPA, synchronised to E (buswait.h) */
+    unsigned w = buswait_iack();
+    if (in_slice)
+        USE_CYCLES((int)w);
     return (int)M68K_INT_ACK_AUTOVECTOR;
 }
 
@@ -197,6 +229,7 @@ static void m68k_cpu_attach(void)
     done = 1;
     m68k_init();
     m68k_set_cpu_type(M68K_CPU_TYPE_68000);
+    buswait_init();
 }
 
 static void m68k_reset_wrapper(sim_t *s)

@@ -4,6 +4,7 @@
  * response queue's rear), exactly as manual 7.3.2 describes a host.
  */
 #include "sim.h"
+#include "buswait.h"
 
 uint16_t dp_rd16(sim_t *s, uint32_t off)
 {
@@ -29,27 +30,44 @@ void dp_wr32(sim_t *s, uint32_t off, uint32_t v)
     dp_wr16(s, off + 2, (uint16_t)v);
 }
 
+/* The host's own accesses, each a D16 slave cycle on the DPRAM that holds
+ * its word for a while (buswait.h: the card's access to it waits). */
+static uint16_t h_rd16(sim_t *s, uint32_t off)
+{
+    buswait_host_access(sim_now(s), off);
+    return dp_rd16(s, off);
+}
+static uint32_t h_rd32(sim_t *s, uint32_t off) { return (uint32_t)h_rd16(s, off) << 16 | h_rd16(s, off + 2); }
+static void h_wr16(sim_t *s, uint32_t off, uint16_t v)
+{
+    buswait_host_access(sim_now(s), off);
+    dp_wr16(s, off, v);
+}
+static void h_wr32(sim_t *s, uint32_t off, uint32_t v)
+{
+    h_wr16(s, off, (uint16_t)(v >> 16));
+    h_wr16(s, off + 2, (uint16_t)v);
+}
+
 /* Returns 1 when queued, 0 when the queue is full, -1 when its header is
  * not one the host can use (not created yet, or corrupt). */
 int host_send(sim_t *s, uint8_t axis, uint16_t code, uint32_t param, uint8_t source)
 {
     uint32_t q = DP_CMD_QUEUE;
-    uint32_t base = dp_rd32(s, q + QH_BASE), width = dp_rd32(s, q + QH_WIDTH);
-    uint32_t nel = dp_rd32(s, q + QH_NEL);
-    uint32_t front = dp_rd32(s, q + QH_FRONT), rear = dp_rd32(s, q + QH_REAR);
+    uint32_t base = h_rd32(s, q + QH_BASE), width = h_rd32(s, q + QH_WIDTH);
+    uint32_t nel = h_rd32(s, q + QH_NEL);
+    uint32_t front = h_rd32(s, q + QH_FRONT), rear = h_rd32(s, q + QH_REAR);
     if (base != Q_HEADER_SIZE || width != Q_WIDTH || nel != Q_NEL || front >= nel || rear >= nel)
         return -1;
     uint32_t next = (front + 1) % nel;
     if (next == rear)
         return 0;
     uint32_t e = q + base + front * width;
-    s->dpram[e + MSG_AXIS] = axis;
-    s->dpram[e + MSG_AXIS + 1] = 0;
-    dp_wr16(s, e + MSG_CODE, code);
-    dp_wr32(s, e + MSG_PARAM, param);
-    s->dpram[e + MSG_SOURCE] = source;
-    s->dpram[e + MSG_SOURCE + 1] = 0;
-    dp_wr32(s, q + QH_FRONT, next);
+    h_wr16(s, e + MSG_AXIS, (uint16_t)(axis << 8));
+    h_wr16(s, e + MSG_CODE, code);
+    h_wr32(s, e + MSG_PARAM, param);
+    h_wr16(s, e + MSG_SOURCE, (uint16_t)(source << 8));
+    h_wr32(s, q + QH_FRONT, next);
     return 1;
 }
 
@@ -59,17 +77,17 @@ int host_poll_responses(sim_t *s)
     uint32_t q = DP_RSP_QUEUE;
     int n = 0;
     for (;;) {
-        uint32_t base = dp_rd32(s, q + QH_BASE), width = dp_rd32(s, q + QH_WIDTH);
-        uint32_t nel = dp_rd32(s, q + QH_NEL);
-        uint32_t front = dp_rd32(s, q + QH_FRONT), rear = dp_rd32(s, q + QH_REAR);
+        uint32_t base = h_rd32(s, q + QH_BASE), width = h_rd32(s, q + QH_WIDTH);
+        uint32_t nel = h_rd32(s, q + QH_NEL);
+        uint32_t front = h_rd32(s, q + QH_FRONT), rear = h_rd32(s, q + QH_REAR);
         if (base != Q_HEADER_SIZE || width != Q_WIDTH || nel != Q_NEL || front >= nel || rear >= nel)
             return n;
         if (front == rear)
             return n;
         uint32_t e = q + base + rear * width;
-        sim_printf(s, "resp %u %u 0x%08X\n", s->dpram[e + MSG_AXIS], dp_rd16(s, e + MSG_CODE),
-                   dp_rd32(s, e + MSG_PARAM));
-        dp_wr32(s, q + QH_REAR, (rear + 1) % nel);
+        sim_printf(s, "resp %u %u 0x%08X\n", h_rd16(s, e + MSG_AXIS) >> 8, h_rd16(s, e + MSG_CODE),
+                   h_rd32(s, e + MSG_PARAM));
+        h_wr32(s, q + QH_REAR, (rear + 1) % nel);
         n++;
     }
 }

@@ -9,6 +9,7 @@
 #include "script.h"
 #include "profile.h"
 #include "serial_host.h"
+#include "buswait.h"
 
 static sim_t card;
 
@@ -27,6 +28,11 @@ static void usage(FILE *f)
             "  --timestamps         prefix every event with the emulated time\n"
             "  --irq-level N        VMEbus interrupt level of LB1/LB2 (1..7, default 3)\n"
             "  --j11 in|out         watchdog reset jumper J11 (default in)\n"
+            "  --wait-states SPEC   bus timing (docs/memory-map.md, \"Bus timing\"): N for every\n"
+            "                       region, or REGION[.read|.write]=N,... over the defaults\n"
+            "                       of hal/mac4_map.h (regions: dpram eprom sram vme sys\n"
+            "                       timer uart virq watchdog axis axisirq unmapped)\n"
+            "  --iack autovector|vectored  interrupt acknowledge (default autovector, via VPA)\n"
             "  --allow-faults       exit 0 even when the emulator saw faults\n"
             "  --serial-pty         front-panel serial line on a pseudo-terminal (prints\n"
             "                       'serial-pty /dev/pts/N'); after the script the card\n"
@@ -40,6 +46,7 @@ static void usage(FILE *f)
 int main(int argc, char **argv)
 {
     const char *cardname = "inc", *image = NULL, *script = "-";
+    buswait_init();
     if (mac4sim_native_card)
         cardname = mac4sim_native_card() == MAC4_CARD_STP ? "stp" : mac4sim_native_card() == MAC4_CARD_SSI ? "ssi" : "inc";
     int allow_faults = 0, timestamps = 0, level = 3, j11 = 1;
@@ -65,6 +72,19 @@ int main(int argc, char **argv)
             i++;
         } else if (!strcmp(a, "--j11") && val) {
             j11 = !strcmp(val, "in");
+            i++;
+        } else if (!strcmp(a, "--wait-states") && val) {
+            char err[200];
+            if (buswait_parse(val, err, sizeof err)) {
+                fprintf(stderr, "mac4sim: %s\n", err);
+                return 1;
+            }
+            i++;
+        } else if (!strcmp(a, "--iack") && val) {
+            if (buswait_parse_iack(val)) {
+                fprintf(stderr, "mac4sim: bad --iack '%s' (autovector or vectored)\n", val);
+                return 1;
+            }
             i++;
         } else if (!strcmp(a, "--timestamps")) {
             timestamps = 1;

@@ -6,6 +6,7 @@
 #include <string.h>
 #include "sim.h"
 #include "periph.h"
+#include "buswait.h"
 #include "plant.h"
 
 static int estop_edge;   /* /STOP is wired to the edge-triggered level 7 (NMI) */
@@ -17,6 +18,7 @@ static void display_show(sim_t *s, uint16_t v)
     if (v == s->display)
         return;
     s->display = v;
+    buswait_mark(sim_now(s));      /* `bus-stats display`: the counts at this write */
     sim_printf(s, "display %X%s\n", v & 0xF, (v & SYS_DISPLAY_DP) ? "." : "");
 }
 

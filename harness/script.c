@@ -12,6 +12,7 @@
 #include "cpu.h"
 #include "periph.h"
 #include "profile.h"
+#include "buswait.h"
 
 #define MAXTOK 64
 
@@ -200,6 +201,23 @@ int script_line(script_t *sc, sim_t *s, char *line)
             return 0;
         }
         return script_err(sc, "usage: %s on|off|reset|report [N]|pcs FILE", c);
+    }
+    if (!strcmp(c, "bus-stats")) {       /* bus cycles and wait states by region (buswait.h) */
+        if (n == 2 && !strcmp(tok[1], "reset")) {
+            buswait_reset_stats();
+            return 0;
+        }
+        if (n == 2 && !strcmp(tok[1], "display")) {   /* as they were at the display's last change */
+            buswait_print(s->out);
+            buswait_print_mark(s->out);
+            return 0;
+        }
+        if (n != 1)
+            return script_err(sc, "usage: %s [reset|display]", c);
+        buswait_print(s->out);
+        sim_printf(s, "bus-stats cycles=%llu\n", (unsigned long long)sim_now(s));
+        buswait_print_stats(s->out);
+        return 0;
     }
     if (!strcmp(c, "irqstats")) {
         irq_print_table(s, s->out);

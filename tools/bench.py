@@ -205,6 +205,16 @@ def main():
     print("== deadlines (figure beside limit; tests/timing/test_deadlines.py asserts them)")
     print_rows(dls, "limit")
 
+    print("== sensitivity to the bus: the same scenarios with N wait states on every region "
+          "(mac4sim --wait-states N) beside the default model (%s)" % ps.bus_timing_line())
+    sens = ps.sensitivity(base=runs)
+    print("  %-8s %-9s %11s %13s %22s %9s" % ("card", "wait", "worst tick", "longest mask", "UART need / 33333",
+                                            "load %"))
+    for r in sens:
+        print("  MAC4-%-3s %-9s %11d %13d %14d %-7s %9.1f" % (
+            r["card"].upper(), r["wait_states"], r["tick"], r["masked"], r["uart_need"],
+            "ok" if r["uart_need"] <= r["uart_limit"] else "MISSED", r["load_percent"] or 0))
+
     boot = {card: ps.boot_ms(card) for card in ("inc", "ssi", "stp")}
     print("-- boot, reset to display $5 (RAM test, EPROM check sum): %s"
           % ", ".join("MAC4-%s %.0f ms" % (c.upper(), boot[c] or 0) for c in boot))
@@ -280,6 +290,9 @@ def main():
         "stack_bytes_per_card": {c: s["stack_bytes"] for c, s in stacks.items()},
         "moved_in_window": {c: ps.moved(res[c]) for c in ("inc", "ssi", "stp")},
         "aims": aims,
+        "bus_model": ps.bus_timing_line(),
+        "sensitivity": sens,
+        "boot_ms_no_wait_states": {c: ps.boot_ms(c, "0") for c in ("inc", "ssi", "stp")},
         "deadlines": dls,
         "budgets": {"servo_tick_cycles": ps.BUDGET_SERVO_TICK, "profile_cycles_per_10ms": ps.BUDGET_PROFILE_SERVO,
                     "stp_tick_cycles": ps.BUDGET_STP_TICK, "stp_profile_cycles_per_32ms": ps.BUDGET_STP_PROFILE,

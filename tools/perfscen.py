@@ -354,9 +354,9 @@ def creep_wait(results):
 BOOT_GUARD_MS = 600.0
 
 
-def boot_ms(card):
+def boot_ms(card, wait_states=None):
     """Emulated time from reset to display $5 (the card ready), ms."""
-    r = run(card, "wait-display 5 3000\nstatus\n")
+    r = run(card, "wait-display 5 3000\nstatus\n", wait_states=wait_states)
     for line in r["lines"]:
         m = re.match(r"status time=([0-9.]+)ms .*display=5", line)
         if m:
@@ -387,12 +387,13 @@ MASKED_SCENARIOS = {"inc": ("commands", "whole", "fly"), "ssi": ("commands", "wh
 class Runs:
     """Each scenario run once per card, on first use."""
 
-    def __init__(self):
+    def __init__(self, wait_states=None):
         self.done = {}
+        self.wait_states = wait_states      # mac4sim --wait-states; None: the defaults
 
     def get(self, name, card):
         if (name, card) not in self.done:
-            self.done[(name, card)] = run(card, SCRIPTS[name](card))
+            self.done[(name, card)] = run(card, SCRIPTS[name](card), wait_states=self.wait_states)
         return self.done[(name, card)]
 
     def worst_tick(self, card):
@@ -460,6 +461,56 @@ def deadlines(runs):
     return rows
 
 
+def boot_bus(card, wait_states=None):
+    """Reset to the display's change to $5 (the card ready), to the cycle of
+    that write: {"cycles", "bus": {region: (reads, writes)}, "wait":
+    {region: (read clocks, write clocks)}, "contention_clocks": the DPRAM
+    accesses' waits for the VME host, "timing": the configuration line,
+    "resets"} (`bus-stats display`, harness/buswait.c)."""
+    r = run(card, "wait-display 5 3000\nstatus\nbus-stats display\n", wait_states=wait_states)
+    out = {"bus": {}, "wait": {}, "cycles": None, "timing": None,
+           "resets": sum(1 for l in r["lines"] if l.startswith("reset "))}
+    for line in r["lines"]:
+        kv = {k: num(v) for k, v in KV.findall(line)}
+        parts = line.split()
+        if line.startswith("bus-timing "):
+            out["timing"] = line
+        elif line.startswith("bus-stats cycles="):
+            out["cycles"] = kv["cycles"]
+        elif line.startswith("bus-stats contention "):
+            out["contention_clocks"] = kv["clocks"]
+        elif line.startswith("bus-stats ") and "reads" in kv:
+            out["bus"][parts[1]] = (kv["reads"], kv["writes"])
+            out["wait"][parts[1]] = (kv["wait_read"], kv["wait_write"])
+    return out
+
+
+SENSITIVITY_WAIT_STATES = (0, 1, 2)
+
+
+def sensitivity(base=None, levels=SENSITIVITY_WAIT_STATES):
+    """The deadline figures with N wait states on every region (mac4sim
+    --wait-states N) beside the default model's (`base`, a Runs of the
+    defaults, or run here): per card and setting the worst tick, the longest
+    masked section, the UART's need against its character time and the CPU
+    load (moving).  make bench, docs/performance.md."""
+    rows = []
+    for ws in ("default",) + tuple(levels):
+        runs = base if ws == "default" and base is not None else Runs(None if ws == "default" else str(ws))
+        for card in ("inc", "ssi", "stp"):
+            rows.append({"wait_states": ws, "card": card, "tick": runs.worst_tick(card),
+                         "masked": runs.worst_masked(card), "uart_need": runs.uart_need(card),
+                         "uart_limit": CHAR_CYCLES, "period": PERIOD[card],
+                         "load_percent": load_percent(runs.get("moving", card))})
+    return rows
+
+
+def bus_timing_line(wait_states=None):
+    """mac4sim's bus timing configuration line (`bus-stats`)."""
+    r = run("inc", "bus-stats\n", wait_states=wait_states)
+    return next(l for l in r["lines"] if l.startswith("bus-timing "))
+
+
 KV = re.compile(r"(\w+)=(\S+)")
 
 
@@ -510,8 +561,11 @@ def parse(text):
     return r
 
 
-def run(card, script, binary=SIM, timeout=600):
-    p = subprocess.run([binary, "--card", card, "--script", "-", "--allow-faults"], input=script,
+def run(card, script, binary=SIM, timeout=600, wait_states=None):
+    """script on `card`; wait_states: mac4sim's --wait-states (None: the
+    defaults of hal/mac4_map.h, docs/memory-map.md "Bus timing")."""
+    ws = [] if wait_states is None else ["--wait-states", str(wait_states)]
+    p = subprocess.run([binary, "--card", card, "--script", "-", "--allow-faults"] + ws, input=script,
                        capture_output=True, text=True, timeout=timeout)
     if p.returncode != 0:
         raise RuntimeError("mac4sim --card %s failed (%d): %s" % (card, p.returncode, p.stderr[-2000:]))

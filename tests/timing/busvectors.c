@@ -1,0 +1,299 @@
+/*
+ * busvectors.c - the bus timing model (harness/buswait.c) against the
+ * 68000 reference vectors (SingleStepTests m68000, ../shared/m68000-tests,
+ * format in its README.md): every test is run through the Musashi core as
+ * mac4sim builds it, once with no wait states and once with a different
+ * number of wait states for each region of hal/mac4_map.h, reads and writes
+ * apart, charged per bus cycle as in mac4sim (buswait_charge).  A test must
+ * then take its reference length plus, for every bus transaction of the
+ * reference, the wait states of that transaction's region and kind.
+ *
+ *   build/busvectors FILE...      prints per file and a summary line
+ *
+ * Per test three things are told apart: the charge itself (the cycles with
+ * wait states minus those without must be the wait states of the bus cycles
+ * the core made: "mechanism"), the core's bus cycles per region against the
+ * reference's ("bus": where they differ, so do the wait states charged -
+ * the conformance lane's business, not this one's), and the core's length
+ * without wait states against the reference's ("length").  Skipped, and
+ * counted: TAS (the reference's caveat), STOP (the core then waits for an
+ * interrupt: its length is the rest of the slice) and the tests that end in
+ * an address error.
+ */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "m68k.h"
+#include "m68kcpu.h"
+#include "buswait.h"
+
+static uint8_t *mem;                     /* 16 MiB, the 24-bit space */
+static uint64_t made[BW_NREGIONS][2];    /* the core's bus cycles in this test */
+
+/* musashi_cnf.h's hooks */
+int mac4_profiling;
+void mac4_profile_instr(unsigned pc) { (void)pc; }
+int mac4_int_ack(int level) { (void)level; return (int)M68K_INT_ACK_AUTOVECTOR; }
+void mac4_rte(void) {}
+int mac4_illegal(int opcode) { (void)opcode; return 0; }
+void mac4_reset_instr(void) {}
+
+static void charge(unsigned a, int write, unsigned n)
+{
+    a &= 0xFFFFFF;
+    made[buswait_page[a >> 8]][write] += n;
+    unsigned w = buswait_charge(a, write, n);     /* as cpu_m68k.c's bus_cycles */
+    if (w)
+        USE_CYCLES((int)w);
+}
+static unsigned rd(unsigned a, int n)
+{
+    unsigned v = 0;
+    for (int i = 0; i < n; i++)
+        v = v << 8 | mem[(a + (unsigned)i) & 0xFFFFFF];
+    return v;
+}
+static void wr(unsigned a, unsigned v, int n)
+{
+    for (int i = n - 1; i >= 0; i--, v >>= 8)
+        mem[(a + (unsigned)i) & 0xFFFFFF] = (uint8_t)v;
+}
+unsigned int m68k_read_memory_8(unsigned int a) { charge(a, 0, 1); return rd(a, 1); }
+unsigned int m68k_read_memory_16(unsigned int a) { charge(a, 0, 1); return rd(a, 2); }
+unsigned int m68k_read_memory_32(unsigned int a) { charge(a, 0, 2); return rd(a, 4); }
+void m68k_write_memory_8(unsigned int a, unsigned int v) { charge(a, 1, 1); wr(a, v, 1); }
+void m68k_write_memory_16(unsigned int a, unsigned int v) { charge(a, 1, 1); wr(a, v, 2); }
+void m68k_write_memory_32(unsigned int a, unsigned int v) { charge(a, 1, 2); wr(a, v, 4); }
+unsigned int m68k_read_disassembler_8(unsigned int a) { return rd(a, 1); }
+unsigned int m68k_read_disassembler_16(unsigned int a) { return rd(a, 2); }
+unsigned int m68k_read_disassembler_32(unsigned int a) { return rd(a, 4); }
+
+/* ---- the vector files ---------------------------------------------------- */
+typedef struct { const uint8_t *p, *end; int bad; } rd_t;
+static uint32_t u32(rd_t *r)
+{
+    if (r->end - r->p < 4) {
+        r->bad = 1;
+        return 0;
+    }
+    uint32_t v = (uint32_t)r->p[0] | (uint32_t)r->p[1] << 8 | (uint32_t)r->p[2] << 16 | (uint32_t)r->p[3] << 24;
+    r->p += 4;
+    return v;
+}
+static uint8_t u8(rd_t *r)
+{
+    if (r->p >= r->end) {
+        r->bad = 1;
+        return 0;
+    }
+    return *r->p++;
+}
+
+typedef struct {
+    uint32_t reg[19], pref[2];
+    uint32_t nram;
+    const uint8_t *ram;
+} state_t;
+
+static void state(rd_t *r, state_t *s)
+{
+    u32(r);
+    if (u32(r) != 0x01234567u)
+        r->bad = 1;
+    for (int i = 0; i < 19; i++)
+        s->reg[i] = u32(r);
+    s->pref[0] = u32(r);
+    s->pref[1] = u32(r);
+    s->nram = u32(r);
+    s->ram = r->p;
+    if ((size_t)(r->end - r->p) < (size_t)s->nram * 6u)
+        r->bad = 1;
+    else
+        r->p += (size_t)s->nram * 6u;
+}
+
+static void load(const state_t *s)
+{
+    for (uint32_t i = 0; i < s->nram; i++) {
+        const uint8_t *e = s->ram + 6 * i;
+        uint32_t a = (uint32_t)e[0] | (uint32_t)e[1] << 8 | (uint32_t)e[2] << 16 | (uint32_t)e[3] << 24;
+        wr(a & 0xFFFFFE, (unsigned)(e[4] | e[5] << 8), 2);
+    }
+    /* the two prefetched words are the instruction's first: at pc - 4 */
+    wr((s->reg[18] - 4) & 0xFFFFFE, s->pref[0], 2);
+    wr((s->reg[18] - 2) & 0xFFFFFE, s->pref[1], 2);
+    m68k_set_reg(M68K_REG_SR, s->reg[17]);
+    m68k_set_reg(M68K_REG_ISP, s->reg[16]);
+    m68k_set_reg(M68K_REG_USP, s->reg[15]);
+    for (int i = 0; i < 8; i++)
+        m68k_set_reg((m68k_register_t)(M68K_REG_D0 + i), s->reg[i]);
+    for (int i = 0; i < 7; i++)
+        m68k_set_reg((m68k_register_t)(M68K_REG_A0 + i), s->reg[8 + i]);
+    m68k_set_reg(M68K_REG_A7, (s->reg[17] & 0x2000) ? s->reg[16] : s->reg[15]);
+    m68k_set_reg(M68K_REG_PC, s->reg[18] - 4);
+}
+
+static int run_one(const state_t *init, uint64_t bus[BW_NREGIONS][2])
+{
+    memset(made, 0, sizeof made);
+    CPU_STOPPED = 0;                    /* a STOP before must not hold this one */
+    load(init);
+    RESET_CYCLES = 0;
+    int c = m68k_execute(1);
+    memcpy(bus, made, sizeof made);
+    return c;
+}
+
+static struct { long tests, exact, mech, bus, length, skipped; } tot;
+
+static void file(const char *path, const buswait_cfg_t *zero, const buswait_cfg_t *ws)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        fprintf(stderr, "busvectors: cannot open %s\n", path);
+        exit(1);
+    }
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    uint8_t *buf = malloc((size_t)n);
+    if (!buf || fread(buf, 1, (size_t)n, f) != (size_t)n) {
+        fprintf(stderr, "busvectors: cannot read %s\n", path);
+        exit(1);
+    }
+    fclose(f);
+    rd_t r = {buf, buf + n, 0};
+    if (u32(&r) != 0x1A3F5D71u) {
+        fprintf(stderr, "busvectors: %s: not a vector file (magic)\n", path);
+        exit(1);
+    }
+    uint32_t count = u32(&r);
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    /* TAS: the reference's own caveat; STOP: the core then waits for an
+     * interrupt, and its length is the rest of the slice */
+    int skip_file = !strncmp(base, "TAS.", 4) || !strncmp(base, "STOP.", 5);
+    long t = 0, exact = 0, mech = 0, busd = 0, lend = 0, skipped = 0;
+    for (uint32_t k = 0; k < count && !r.bad; k++) {
+        const uint8_t *rec = r.p;
+        uint32_t size = u32(&r);
+        if (u32(&r) != 0xABC12367u || size < 8 || (size_t)(r.end - rec) < size) {
+            r.bad = 1;
+            break;
+        }
+        rd_t t_r = {r.p, rec + size, 0};
+        u32(&t_r);                                 /* name: size, magic, length, text */
+        u32(&t_r);
+        uint32_t len = u32(&t_r);
+        const char *name = (const char *)t_r.p;
+        t_r.p += len;
+        state_t init, fin;
+        state(&t_r, &init);
+        state(&t_r, &fin);
+        u32(&t_r);
+        if (u32(&t_r) != 0x456789ABu)
+            t_r.bad = 1;
+        uint32_t ref_len = u32(&t_r), ntx = u32(&t_r);
+        uint64_t ref_bus[BW_NREGIONS][2] = {{0}};
+        int skip = skip_file;
+        for (uint32_t i = 0; i < ntx && !t_r.bad; i++) {
+            uint8_t kind = u8(&t_r);
+            u32(&t_r);                             /* cycles */
+            if (kind == 0)
+                continue;
+            u32(&t_r);                             /* function code */
+            uint32_t addr = u32(&t_r);
+            u32(&t_r);
+            u32(&t_r);
+            u32(&t_r);
+            if (kind >= 3)
+                skip = 1;                          /* TAS, address errors */
+            else
+                ref_bus[buswait_page[(addr & 0xFFFFFF) >> 8]][kind == 1]++;
+        }
+        r.p = rec + size;
+        if (t_r.bad) {
+            r.bad = 1;
+            break;
+        }
+        if (skip) {
+            skipped++;
+            continue;
+        }
+        t++;
+        uint64_t b0[BW_NREGIONS][2], b1[BW_NREGIONS][2];
+        buswait_cfg = *zero;
+        int c0 = run_one(&init, b0);
+        buswait_cfg = *ws;
+        int c1 = run_one(&init, b1);
+        uint64_t by_core = 0, by_ref = 0;
+        int same_bus = 1;
+        for (int g = 0; g < BW_NREGIONS; g++)
+            for (int w = 0; w < 2; w++) {
+                by_core += b0[g][w] * ws->ws[g][w];
+                by_ref += ref_bus[g][w] * ws->ws[g][w];
+                if (b0[g][w] != ref_bus[g][w])
+                    same_bus = 0;
+            }
+        int m_ok = (uint64_t)(c1 - c0) == by_core;
+        int exact_ok = (uint64_t)c1 == ref_len + by_ref;
+        mech += !m_ok;
+        busd += !same_bus;
+        lend += (uint32_t)c0 != ref_len;
+        exact += exact_ok;
+        if (!m_ok)
+            printf("busvectors: %s: mechanism: %d -> %d cycles, the core's bus cycles say +%llu\n", name, c0, c1,
+                   (unsigned long long)by_core);
+        else if (same_bus && (uint64_t)(c1 - c0) != by_ref)
+            printf("busvectors: %s: +%d cycles, the reference's bus cycles say +%llu\n", name, c1 - c0,
+                   (unsigned long long)by_ref);
+    }
+    if (r.bad) {
+        fprintf(stderr, "busvectors: %s: truncated or corrupt record\n", path);
+        exit(1);
+    }
+    printf("busvectors-file %s tests=%ld exact=%ld mechanism_failed=%ld bus_differs=%ld length_differs=%ld skipped=%ld\n",
+           base, t, exact, mech, busd, lend, skipped);
+    tot.tests += t;
+    tot.exact += exact;
+    tot.mech += mech;
+    tot.bus += busd;
+    tot.length += lend;
+    tot.skipped += skipped;
+    free(buf);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        fprintf(stderr, "usage: busvectors FILE.json.bin...\n");
+        return 1;
+    }
+    mem = calloc(1u << 24, 1);
+    if (!mem)
+        return 1;
+    buswait_init();
+    m68k_init();
+    m68k_set_cpu_type(M68K_CPU_TYPE_68000);
+    m68k_pulse_reset();
+    buswait_cfg_t zero, ws;
+    char err[200];
+    buswait_parse("0", err, sizeof err);
+    zero = buswait_cfg;
+    /* every region its own number, reads and writes apart */
+    for (int g = 0; g < BW_NREGIONS; g++) {
+        ws.ws[g][0] = (uint8_t)(1 + g);
+        ws.ws[g][1] = (uint8_t)(2 + 2 * g);
+    }
+    ws.iack = zero.iack;
+    ws.iack_vectored_wait = zero.iack_vectored_wait;
+    ws.host_clocks = zero.host_clocks;
+    for (int i = 1; i < argc; i++)
+        file(argv[i], &zero, &ws);
+    printf("busvectors: %ld tests, %ld exact (length + wait states of every bus cycle by region), "
+           "%ld mechanism failures, %ld where the core's bus cycles differ from the reference, "
+           "%ld where its length differs, %ld skipped (TAS, STOP, address errors)\n",
+           tot.tests, tot.exact, tot.mech, tot.bus, tot.length, tot.skipped);
+    return tot.mech ? 2 : 0;
+}
