@@ -204,3 +204,6 @@ cppcheck: deps
 
 # native/68000 agreement and the cycle budgets last (docs/performance.md)
 test: differential timing
+
+# ---- the 68000 core against the reference vectors (docs/cpu-timing.md) -----
+include tests/conformance/conformance.mk
