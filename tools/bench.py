@@ -8,7 +8,8 @@
    peripherals and plant stubbed to plain memory, the timer interrupt raised
    every 2.5 ms), so the harness overhead is a ratio.
 2. The cycle budgets (the scenarios of tools/perfscen.py, as in make timing):
-   the cycle table per interrupt source with the budget each uses.
+   the cycle table per interrupt source, the aims (figure beside aim) and
+   the deadlines of tests/timing (figure beside limit).
 3. Image, RAM and worst-case stack per card.
 4. A plot of a move: build/move-inc.png (setpoint, position, following
    error, DAC word over time).
@@ -97,6 +98,17 @@ def plot_move(path_png):
     pngplot.plot(csvp, path_png, "MAC4-INC AXIS 1 (EMULATED): WAP 8000 WPV 100 WPA 10 WPD 10, DEFAULT PLANT")
 
 
+def print_rows(rows, limit):
+    """A table of perfscen.aims()/deadlines() rows: figure beside aim or limit."""
+    for r in rows:
+        fig = "-" if r["figure"] is None else ("%.2f" % r["figure"] if isinstance(r["figure"], float)
+                                               else "%d" % r["figure"])
+        scen = (" (%s)" % r["scenario"]) if r.get("scenario") else ""
+        print("  %-13s MAC4-%s%-40s %10s  %s %-8s %-16s %s" % (
+            r["name"], r["card"].upper(), scen, fig, limit + (" >=" if r.get("at_least") else ""), r[limit],
+            r["unit"], "met" if r["met"] else "NOT MET"))
+
+
 def main():
     for f in (ps.SIM, BARE):
         if not os.path.exists(f):
@@ -148,26 +160,26 @@ def main():
         creep = "no pulse-count interrupts seen in the creep scenarios (moved %s, %s)" % (
             ps.moved(res["creep"]), ps.moved(res["creep_starts"]))
     stp_ticks = {n: ps.worst(runs.get(n, "stp"), "timer") for n in ps.TICK_SCENARIOS["stp"]}
-    print("-- MAC4-STP controller tick worst: %s (budget %d)"
+    print("-- MAC4-STP controller tick worst: %s (aim %d)"
           % (", ".join("%d %s" % (v or 0, n) for n, v in stp_ticks.items()), ps.BUDGET_STP_TICK))
     print("-- MAC4-STP creep phase: " + creep)
     for card in ("inc", "ssi"):
         print("-- MAC4-%s servo tick, four axes moving: %d cycles with the default K-only gains, %d on circular "
               "axes with every filter term and <sw> (perfscen.full_filter), %d so with external VME encoders "
               "(perfscen.external), %d with four axes braking at once (perfscen.braking), %d with four external "
-              "encoders failing at once (perfscen.encoder_loss); budget %d" % (
+              "encoders failing at once (perfscen.encoder_loss); aim %d" % (
                   card.upper(), ps.worst(res[card], "timer") or 0, ps.worst(ffil[card], "timer") or 0,
                   ps.worst(extf[card], "timer") or 0, ps.worst(brk[card], "timer") or 0,
                   ps.worst(lost[card], "timer") or 0, ps.BUDGET_SERVO_TICK))
     for card in ("inc", "ssi"):
         print("-- MAC4-%s profile generator, worst SP: %d cycles over whole moves (four axes braking at once), "
-              "%d changing course on the fly (budget %d)" % (card.upper(), ps.profile_per_period(whole[card]) or 0,
+              "%d changing course on the fly (aim %d)" % (card.upper(), ps.profile_per_period(whole[card]) or 0,
                                                              ps.profile_per_period(fly[card]) or 0,
                                                              ps.BUDGET_PROFILE_SERVO))
     for card in ("inc", "ssi", "stp"):
         pc = cmds[card].get("mask_worst_pc")
         print("-- MAC4-%s, three axes moving, the host sending E with new targets, INIT/DEINIT and every command: "
-              "longest masked section %d cycles, from %s (bound of the tick's latency; measured %d), budget %d"
+              "longest masked section %d cycles, from %s (bound of the tick's latency; measured %d), aim %d"
               % (card.upper(), ps.masked_worst(cmds[card]) or 0,
                  "?" if pc is None else "$%06X in %s" % (pc, ps.symbol_of(card, pc)),
                  ps.timer_latency_worst(cmds[card]) or 0, ps.PERIOD[card] // 10))
@@ -186,6 +198,12 @@ def main():
               "(masked section, tick, creep pulses, handler); CPU load %.1f%%, latency max %.2f ms"
               % (card.upper(), ps.SERIAL_TELEGRAMS, st.get("tx_ok", 0), st.get("overruns", 0), uart,
                  uart_need[card], ps.CHAR_CYCLES, ps.load_percent(ser[card]) or 0, ps.latency_ms(ser[card]) or 0))
+
+    aims, dls = ps.aims(runs), ps.deadlines(runs)
+    print("== aims (figure beside aim; make bench only, never a test)")
+    print_rows(aims, "aim")
+    print("== deadlines (figure beside limit; tests/timing/test_deadlines.py asserts them)")
+    print_rows(dls, "limit")
 
     boot = {card: ps.boot_ms(card) for card in ("inc", "ssi", "stp")}
     print("-- boot, reset to display $5 (RAM test, EPROM check sum): %s"
@@ -261,6 +279,8 @@ def main():
         "ram_stack_bytes_per_card": {c: s["ram_stack_bytes"] for c, s in stacks.items()},
         "stack_bytes_per_card": {c: s["stack_bytes"] for c, s in stacks.items()},
         "moved_in_window": {c: ps.moved(res[c]) for c in ("inc", "ssi", "stp")},
+        "aims": aims,
+        "deadlines": dls,
         "budgets": {"servo_tick_cycles": ps.BUDGET_SERVO_TICK, "profile_cycles_per_10ms": ps.BUDGET_PROFILE_SERVO,
                     "stp_tick_cycles": ps.BUDGET_STP_TICK, "stp_profile_cycles_per_32ms": ps.BUDGET_STP_PROFILE,
                     "cpu_load_percent": ps.BUDGET_LOAD_PERCENT, "command_latency_ms": ps.BUDGET_LATENCY_MS,

@@ -90,6 +90,17 @@ static void ram_fault_stops_at_2(void **st)
     assert_int_equal(dp_rd32(&card, DPC_RAM_BAD_ADDR), SRAM_BASE + 0x1230);
 }
 
+static void ram_fault_in_a_low_word_is_found_there(void **st)
+{
+    (void)st;
+    card_setup();
+    card.sram_fault_addr = 0x7FFE;      /* the last word: the low half of the last long */
+    card.sram_fault_mask = 0x0001;
+    assert_int_equal(boot(), 1);
+    assert_int_equal(dp_rd32(&card, DPC_BOOT_ERROR), DPC_ERR_RAM);
+    assert_int_equal(dp_rd32(&card, DPC_RAM_BAD_ADDR), SRAM_BASE + 0x7FFE);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -98,6 +109,7 @@ int main(void)
         cmocka_unit_test(checksum_mismatch_stops_at_3),
         cmocka_unit_test(stored_complement_is_checked),
         cmocka_unit_test(ram_fault_stops_at_2),
+        cmocka_unit_test(ram_fault_in_a_low_word_is_found_there),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
