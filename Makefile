@@ -47,8 +47,13 @@ IMAGES := $(foreach c,$(CARDS),$(B)/eprom/mac4-$(c).bin)
 .PHONY: all deps demo test unit system clean images docs native timing differential bench
 all: images $(B)/mac4sim $(B)/commands.json
 
+# $(MUS) is the fetched Musashi with our patch series applied (tools/musashi-patch.sh,
+# harness/musashi-patches/README.md): its stamp depends on every patch file and on
+# the folder (a patch added or removed), so a changed series rebuilds the core.
+MUS_PATCHES := $(sort $(wildcard harness/musashi-patches/*.patch))
 deps: $(MUS)/.stamp
-$(MUS)/.stamp: tools/bootstrap.sh tools/deps/pypi.txt tools/deps/apt.txt tools/deps/python.txt
+$(MUS)/.stamp: tools/bootstrap.sh tools/deps/pypi.txt tools/deps/apt.txt tools/deps/python.txt \
+               tools/musashi-patch.sh harness/musashi-patches $(MUS_PATCHES)
 	@BUILD=$(B) CROSS=$(CROSS) tools/bootstrap.sh
 
 images: $(IMAGES)
@@ -205,3 +210,6 @@ cppcheck: deps
 
 # native/68000 agreement and the cycle budgets last (docs/performance.md)
 test: differential timing
+
+# ---- the 68000 core against the reference vectors (docs/cpu-timing.md) -----
+include tests/conformance/conformance.mk

@@ -147,6 +147,17 @@ void m68k_write_memory_32(unsigned int a, unsigned int v)
     }
 }
 
+/* The 68000's bus cycles that carry no data to the emulator (musashi_cnf.h,
+ * docs/cpu-timing.md): prefetch refills, the read of CLR/Scc/MOVE from SR
+ * before their write, MOVEM's extra word.  No device sees them: a read of
+ * a register before CLR writes it has no side effect here.  The bus model
+ * charges their wait states, per region of the address. */
+void mac4_bus_extra(unsigned address, int n)
+{
+    (void)address;
+    (void)n;
+}
+
 /* The disassembler reads without side effects. */
 static unsigned peek(unsigned a, int size)
 {

@@ -54,6 +54,7 @@ int mac4_int_ack(int level)
 void mac4_rte(void) {}
 int mac4_illegal(int opcode) { (void)opcode; return 0; }
 void mac4_reset_instr(void) {}
+void mac4_bus_extra(unsigned address, int n) { (void)address; (void)n; }
 
 int main(int argc, char **argv)
 {

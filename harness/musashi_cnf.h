@@ -50,6 +50,12 @@ extern int mac4_profiling;
 void mac4_profile_instr(unsigned pc);
 #define M68K_INSTRUCTION_HOOK       OPT_SPECIFY_HANDLER
 #define M68K_INSTRUCTION_CALLBACK(pc) do { if (mac4_profiling) mac4_profile_instr(pc); } while (0)
+/* The bus cycles Musashi makes no memory callback for (our patch
+ * harness/musashi-patches/0001-bus-cycles.patch; docs/cpu-timing.md):
+ * n reads at address (n < 0: fewer).  Memory callbacks, a long one as
+ * two, plus these are the 68000's bus cycles of each instruction. */
+void mac4_bus_extra(unsigned address, int n);
+#define M68K_BUS_EXTRA_CALLBACK(A, N) mac4_bus_extra(A, N)
 #define M68K_EMULATE_PREFETCH       OPT_OFF
 #define M68K_EMULATE_ADDRESS_ERROR  OPT_ON
 #define M68K_ALINE_HOOK             OPT_OFF

@@ -44,8 +44,10 @@ if [ ${#pyneed[@]} -gt 0 ]; then
     python3 -m pip install -q "${pyneed[@]}"
 fi
 
-# Musashi: the pinned sdist, hash-checked, only src/musashi unpacked.
-MUS="$BUILD/deps/musashi"
+# Musashi: the pinned sdist, hash-checked, only src/musashi unpacked into
+# musashi-orig (pristine, never edited); build/deps/musashi is made from it
+# by our patch series (tools/musashi-patch.sh, harness/musashi-patches/).
+MUS="$BUILD/deps/musashi-orig"
 if [ ! -f "$MUS/.stamp" ]; then
     line=$(grep '^machine68k==' tools/deps/pypi.txt)
     spec=${line%% *}
@@ -72,3 +74,7 @@ if [ ! -f "$MUS/.stamp" ]; then
     cp -r "$dl/$top/src/musashi/." "$MUS/"
     touch "$MUS/.stamp"
 fi
+
+# Our patches to Musashi, applied in order and checked; a changed series
+# rebuilds the patched tree.
+tools/musashi-patch.sh "$MUS" "$BUILD/deps/musashi" harness/musashi-patches
