@@ -64,6 +64,18 @@ static inline unsigned buswait_charge(uint32_t addr, int write, unsigned bus)
     return w;
 }
 
+/* The core's "n bus cycles fewer" (musashi_cnf.h M68K_BUS_EXTRA_CALLBACK
+ * with n < 0: STOP's words were in the prefetch queue): their reads and
+ * wait states taken back.  Returns the clocks to give back. */
+static inline unsigned buswait_refund(uint32_t addr, unsigned bus)
+{
+    unsigned r = buswait_page[(addr & 0xFFFFFF) >> 8];
+    unsigned w = buswait_cfg.ws[r][0] * bus;
+    buswait_stats.cycles[r][0] -= bus;
+    buswait_stats.wait[r][0] -= w;
+    return w;
+}
+
 /* DPRAM contention: the host's accesses (host.c) occupy their words from
  * `at` on, one after the other; a card access at `now` to a word the host
  * holds waits until it is free.  Returns the clocks to wait (counted). */

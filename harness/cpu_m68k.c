@@ -154,8 +154,13 @@ void m68k_write_memory_32(unsigned int a, unsigned int v)
  * charges their wait states, per region of the address. */
 void mac4_bus_extra(unsigned address, int n)
 {
-    (void)address;
-    (void)n;
+    if (n > 0) {
+        bus_cycles(address, 0, (unsigned)n);
+    } else if (n < 0 && in_slice) {
+        unsigned w = buswait_refund(address & 0xFFFFFF, (unsigned)-n);
+        if (w)
+            ADD_CYCLES((int)w);
+    }
 }
 
 /* The disassembler reads without side effects. */

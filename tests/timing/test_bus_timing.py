@@ -118,8 +118,10 @@ def test_the_interrupt_acknowledge_costs_the_e_clock_synchronisation():
 
 # ---- against the 68000 reference vectors (tests/timing/busvectors.c) -------
 def vector_dir():
-    """SST=DIR, or ../shared/m68000-tests beside the clone (or its worktree)."""
+    """SST=DIR, or ../shared/m68000-tests beside the clone (or its worktree),
+    or the subset committed for a clone without it (tests/conformance/vectors)."""
     cands = [os.environ.get("SST")] + [os.path.join(ps.ROOT, up, "shared", "m68000-tests") for up in ("..", "../..")]
+    cands.append(os.path.join(ps.ROOT, "tests", "conformance", "vectors"))
     for d in cands:
         if d and os.path.isdir(d) and any(f.endswith(".json.bin") for f in os.listdir(d)):
             return d
@@ -139,7 +141,8 @@ def test_every_reference_test_takes_its_length_plus_the_wait_states_of_its_bus_c
     region by region, exactly the wait states of the reference's bus
     cycles.  Where the core's bus cycles or length differ from the
     reference's, that is the core's conformance (make conformance), which
-    the summary line counts."""
+    the summary line counts; the number of bus cycles and the length must
+    agree everywhere (the patched core)."""
     assert os.path.exists(BUSVECTORS), "make build/busvectors"
     d = vector_dir()
     files = sorted(os.path.join(d, f) for f in os.listdir(d) if f.endswith(".json.bin"))
@@ -154,8 +157,14 @@ def test_every_reference_test_takes_its_length_plus_the_wait_states_of_its_bus_c
     assert len(per_file) == len(files)
     tests = sum(int(f["tests"]) for f in per_file)
     exact = sum(int(f["exact"]) for f in per_file)
-    assert tests > 1000 and exact > tests // 2, summary[0]
+    assert tests > 1000 and exact > tests * 9 // 10, summary[0]
     assert sum(int(f["mechanism_failed"]) for f in per_file) == 0
+    # the core makes as many bus cycles, reads and writes, as the reference in
+    # every test (the patch series, harness/musashi-patches); where only the
+    # region of one differs (the address the core gives a prefetch refill),
+    # the summary's first count says how often
+    assert sum(int(f["count_differs"]) for f in per_file) == 0, [f for f in per_file if f["count_differs"] != "0"]
+    assert sum(int(f["length_differs"]) for f in per_file) == 0, [f for f in per_file if f["length_differs"] != "0"]
 
 
 def test_a_corrupt_vector_file_is_refused(tmp_path):
