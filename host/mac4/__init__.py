@@ -12,6 +12,7 @@ firmware/commands.def and firmware/status.def).  docs/host-client.md.
 from .card import Card, CardError, Response, Status, Timeout, connect
 from .dictionary import (Command, Dictionary, Mac4Error, check_dictionary, is_number,
                          load_dictionary, parse_number, s32)
+from . import board  # noqa: F401  (the memory map, generated from board/mac4.toml)
 from .paths import find_dictionary, find_sim
 from .telegram import (DLE, NAK, STX, ChecksumError, Garbage, Nak, Telegram, TelegramDecoder,
                        checksum, encode_telegram, telegram_data)
