@@ -265,8 +265,9 @@ def test_serial_through_emulator_pty():
     h = subprocess.run([SIM, "--help"], capture_output=True, text=True)
     if "--serial-pty" not in h.stdout + h.stderr:
         pytest.skip("build/mac4sim has no --serial-pty yet")
-    p = subprocess.Popen([SIM, "--card", "inc", "--serial-pty", "--serve-seconds", "20",
-                          "--script", "-"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+    # without --serve-seconds the card stops when the client closes the pty
+    p = subprocess.Popen([SIM, "--card", "inc", "--serial-pty", "--script", "-"],
+                         stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True)
     try:
         p.stdin.write("wait-display 5\n")
@@ -287,10 +288,11 @@ def test_serial_through_emulator_pty():
         assert rs[0]["version"]["card"] == "inc" and r.returncode == 0
     finally:
         try:
-            p.wait(25)
+            p.wait(10)
         except subprocess.TimeoutExpired:
             p.kill()
             p.wait()
+            raise
 
 
 # ---- bad input: one line on stderr, a non-zero exit, never a traceback --------------
