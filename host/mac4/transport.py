@@ -229,15 +229,17 @@ class SerialTransport:
         url = self.device
         if url.startswith("tcp://"):             # as QEMU and socat write it
             url = "socket://" + url[len("tcp://"):]
+        # no flow control: the MAC4's connector has none (manual 3.3)
+        opts = dict(baudrate=4800, bytesize=serial.EIGHTBITS, parity=serial.PARITY_NONE,
+                    stopbits=serial.STOPBITS_ONE, xonxoff=False, rtscts=False, dsrdtr=False,
+                    timeout=0)
+        # a bound on writes where the port has one (pyserial's rfc2217 has none)
+        if not url.startswith("rfc2217:"):
+            opts["write_timeout"] = self.timeout + 1.0
         try:
-            # no flow control: the MAC4's connector has none (manual 3.3)
-            self.port = serial.serial_for_url(url, baudrate=4800, bytesize=serial.EIGHTBITS,
-                                              parity=serial.PARITY_NONE,
-                                              stopbits=serial.STOPBITS_ONE, xonxoff=False,
-                                              rtscts=False, dsrdtr=False, timeout=0,
-                                              write_timeout=self.timeout + 1.0)
+            self.port = serial.serial_for_url(url, **opts)
             self.port.reset_input_buffer()
-        except (serial.SerialException, ValueError, OSError) as e:
+        except (serial.SerialException, ValueError, OSError, NotImplementedError) as e:
             self.port = None
             raise TransportError("cannot open %s: %s" % (self.device, _why(e))) from None
 
@@ -258,7 +260,7 @@ class SerialTransport:
             chunk = self.port.read(1)
             if chunk and self.port.in_waiting:
                 chunk += self.port.read(self.port.in_waiting)
-        except (self._serial.SerialException, OSError) as e:
+        except (self._serial.SerialException, OSError, NotImplementedError) as e:
             raise TransportError("%s: %s" % (self.device, _why(e))) from None
         if not chunk:
             return False
@@ -283,7 +285,7 @@ class SerialTransport:
         try:
             self.port.write(data)
             self.port.flush()
-        except (self._serial.SerialException, OSError) as e:
+        except (self._serial.SerialException, OSError, NotImplementedError) as e:
             raise TransportError("%s: cannot write: %s" % (self.device, _why(e))) from None
 
     def transact(self, axis, code, param, is_ours=None):

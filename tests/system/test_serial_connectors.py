@@ -142,7 +142,7 @@ def test_tcp_without_serve_seconds_stops_when_the_client_closes():
 
 
 def test_tcp_second_client_is_refused_while_one_is_connected():
-    card = Card(["--serial-tcp", "0", "--serve-seconds", "6"])
+    card = Card(["--serial-tcp", "0"])
     try:
         port = tcp_port(card)
         with socket.create_connection(("127.0.0.1", port), timeout=5) as a:
@@ -159,13 +159,25 @@ def test_tcp_second_client_is_refused_while_one_is_connected():
     assert rc == 0 and "serial-tcp refused a second client" in out
 
 
+def listening(port):
+    """Local addresses of the TCP sockets listening on `port` (/proc/net/tcp
+    and tcp6: address and port in hex, state 0A = LISTEN)."""
+    found = []
+    for f in ("/proc/net/tcp", "/proc/net/tcp6"):
+        if not os.path.exists(f):
+            continue
+        for l in open(f).read().splitlines()[1:]:
+            w = l.split()
+            addr, p = w[1].split(":")
+            if w[3] == "0A" and int(p, 16) == port:
+                found.append(addr)
+    return found
+
+
 def test_tcp_listens_on_loopback_only():
-    card = Card(["--serial-tcp", "0", "--serve-seconds", "2"])
+    card = Card(["--serial-tcp", "0", "--serve-seconds", "1"])
     try:
-        port = tcp_port(card)
-        conns = subprocess.run(["ss", "-ltnH"], capture_output=True, text=True).stdout
-        mine = [l for l in conns.splitlines() if ":%d " % port in l + " "]
-        assert mine and all("127.0.0.1:%d" % port in l for l in mine), conns
+        assert listening(tcp_port(card)) == ["0100007F"]      # 127.0.0.1, IPv4 only
     finally:
         card.close()
 
@@ -180,7 +192,7 @@ def test_bad_serial_tcp_options(args):
 
 def test_pty_link_and_line_settings(tmp_path):
     link = str(tmp_path / "mac4-serial")
-    card = Card(["--serial-pty-link", link, "--serve-seconds", "8"], lines=2)
+    card = Card(["--serial-pty-link", link, "--serve-seconds", "3"], lines=2)
     try:
         assert card.first[0].startswith("serial-pty /dev/")
         assert card.first[1] == "serial-pty-link " + link
@@ -211,8 +223,7 @@ def test_pty_link_refuses_to_replace_a_file(tmp_path):
 
 def test_serial_log_replays_the_session(tmp_path):
     log = tmp_path / "session.mac4"
-    card = Card(["--serial-tcp", "0", "--serve-seconds", "6", "--serial-log", str(log)],
-                SETUP_7_3_1)
+    card = Card(["--serial-tcp", "0", "--serial-log", str(log)], SETUP_7_3_1)
     try:
         with socket.create_connection(("127.0.0.1", tcp_port(card)), timeout=5) as s:
             live = exchange(s, MANUAL_TELEGRAMS, 5)
@@ -227,3 +238,67 @@ def test_serial_log_replays_the_session(tmp_path):
     replayed = b"".join(bytes.fromhex(l[3:]) for l in r.stdout.splitlines()
                         if l.startswith("rx "))
     assert parse(replayed) == live == EXPECTED_7_3_1
+
+
+def test_mac4host_through_an_rfc2217_server():
+    """An RFC 2217 (telnet COM port control) server in front of the emulated
+    card's TCP line, built from pyserial's own PortManager as a serial
+    device server would be: `mac4host --serial rfc2217://` sets the line and
+    talks through it."""
+    import threading
+    import serial.rfc2217
+
+    card = Card(["--serial-tcp", "0"])           # stops when the bridge closes the line
+    srv = socket.socket()
+    srv.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    srv.bind(("127.0.0.1", 0))
+    srv.listen(1)
+    srv.settimeout(20)
+    settings = []
+
+    class Conn:                                  # PortManager writes with .write()
+        def __init__(self, sock):
+            self.sock = sock
+
+        def write(self, data):
+            self.sock.sendall(data)
+
+    def serve():
+        conn, _ = srv.accept()
+        line = serial.serial_for_url("socket://127.0.0.1:%d" % tcp_port(card), timeout=0)
+        # the far port: what the client asks for is recorded, as a real
+        # server would set its UART
+        line._reconfigure_port = lambda *a: settings.append(
+            (line.baudrate, line.bytesize, line.parity, line.stopbits))
+        pm = serial.rfc2217.PortManager(line, Conn(conn))
+        conn.settimeout(0.05)
+        end = time.monotonic() + 20
+        try:
+            while time.monotonic() < end:
+                try:
+                    data = conn.recv(1024)
+                    if not data:
+                        break
+                    line.write(b"".join(pm.filter(data)))
+                except socket.timeout:
+                    pass
+                back = line.read(line.in_waiting or 1)
+                if back:
+                    conn.sendall(b"".join(pm.escape(back)))
+        finally:
+            line.close()
+            conn.close()
+
+    t = threading.Thread(target=serve, daemon=True)
+    t.start()
+    try:
+        r = subprocess.run(HOST + ["--json", "--serial", "rfc2217://127.0.0.1:%d"
+                                   % srv.getsockname()[1], "send", "0", "VER", "RCP"],
+                           capture_output=True, text=True, timeout=60)
+    finally:
+        t.join(25)
+        srv.close()
+        rc, out, err = card.close()
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert '"code": 7' in r.stdout and '"param": 4457474' in r.stdout, r.stdout
+    assert (4800, 8, "N", 1) in settings, settings
