@@ -198,7 +198,7 @@ cppcheck: deps
 	@$(CPPCHECK) $(CPPCHECK_FLAGS) -DHAL_NATIVE -DMAC4_CARD=0 -Iharness firmware hal/native
 
 # ---- the board description (docs/board.md): board/mac4.toml generates
-# hal/mac4_map.h, harness/bus_map.h and host/mac4/board.py; `make board`
+# hal/mac4_map.h, harness/bus_map.h and host/mac4card/board.py; `make board`
 # after changing it, `board-check` fails when they differ from it ----------
 .PHONY: board board-check
 board:

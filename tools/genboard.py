@@ -6,7 +6,7 @@
 From board/mac4.toml (docs/board.md) writes
     hal/mac4_map.h        names for the firmware, hal/ and the emulator
     harness/bus_map.h     the rows of the emulator's bus table (harness/bus.c)
-    host/mac4/board.py    the same names and the map for Python
+    host/mac4card/board.py    the same names and the map for Python
 With --check, writes nothing and fails (exit 1) when a generated file
 differs from what the description gives.  A description that is not
 consistent (a name twice, regions that overlap, a register outside its
@@ -18,7 +18,7 @@ import re
 import sys
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-OUTPUTS = {"header": "hal/mac4_map.h", "bus": "harness/bus_map.h", "python": "host/mac4/board.py"}
+OUTPUTS = {"header": "hal/mac4_map.h", "bus": "harness/bus_map.h", "python": "host/mac4card/board.py"}
 COL = 39                      # value column of the header's #defines
 
 

@@ -7,7 +7,7 @@ through pyserial: a device, the emulator's pty, socket://HOST:PORT or
 rfc2217://...; sends commands by mnemonic or number and explains what the
 card answers.  See docs/host-client.md.
 
-A thin layer over the Python package `mac4` (host/mac4/ of the checkout):
+A thin layer over the Python package `mac4card` (host/mac4card/ of the checkout):
 everything it knows about commands, status bits, error codes and modes comes
 from build/commands.json through it.  The package's names are re-exported,
 so `import mac4host` keeps working:
@@ -26,7 +26,7 @@ from dataclasses import dataclass
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 sys.path.insert(0, os.path.join(ROOT, "host"))      # the package, from the checkout
 
-from mac4 import (ChecksumError, Command, Dictionary, Garbage, Mac4Error, Nak,  # noqa: E402,F401
+from mac4card import (ChecksumError, Command, Dictionary, Garbage, Mac4Error, Nak,  # noqa: E402,F401
                   SerialTransport, SimTransport, Telegram, TelegramDecoder, TransportError,
                   checksum, encode_telegram, find_dictionary, find_sim, is_number,
                   load_dictionary, parse_number, s32, telegram_data)

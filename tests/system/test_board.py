@@ -15,19 +15,19 @@ from conftest import ROOT
 GEN = [sys.executable, os.path.join(ROOT, "tools", "genboard.py")]
 BOARD = os.path.join(ROOT, "board", "mac4.toml")
 sys.path.insert(0, os.path.join(ROOT, "host"))
-from mac4 import board  # noqa: E402
+from mac4card import board  # noqa: E402
 
 
 def test_generated_files_are_the_descriptions():
     r = subprocess.run(GEN + ["--check", BOARD], capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stderr
-    for rel in ("hal/mac4_map.h", "harness/bus_map.h", "host/mac4/board.py"):
+    for rel in ("hal/mac4_map.h", "harness/bus_map.h", "host/mac4card/board.py"):
         assert "GENERATED from board/mac4.toml" in open(os.path.join(ROOT, rel)).read()
 
 
 def test_check_notices_a_hand_edit(tmp_path):
     out = tmp_path / "tree"
-    for rel in ("hal", "harness", "host/mac4"):
+    for rel in ("hal", "harness", "host/mac4card"):
         (out / rel).mkdir(parents=True)
     assert subprocess.run(GEN + ["--out", str(out), BOARD], capture_output=True,
                           timeout=60).returncode == 0

@@ -1,4 +1,4 @@
-"""The host package host/mac4: imported from the checkout without
+"""The host package host/mac4card: imported from the checkout without
 installing, installable with pip, the ten-line host program of
 docs/host-client.md run as it stands there, the error rules of manual 6.3
 (acknowledge, retry), waiting for events with timeouts, and a card over the
@@ -15,7 +15,7 @@ import pytest
 from conftest import ROOT
 
 sys.path.insert(0, os.path.join(ROOT, "host"))
-import mac4  # noqa: E402
+import mac4card  # noqa: E402
 
 DOC = os.path.join(ROOT, "docs", "host-client.md")
 
@@ -29,8 +29,8 @@ def doc_block(marker):
 
 
 def test_imported_from_the_checkout():
-    assert os.path.dirname(mac4.__file__) == os.path.join(ROOT, "host", "mac4")
-    assert mac4.find_dictionary() == os.path.join(ROOT, "build", "commands.json")
+    assert os.path.dirname(mac4card.__file__) == os.path.join(ROOT, "host", "mac4card")
+    assert mac4card.find_dictionary() == os.path.join(ROOT, "build", "commands.json")
 
 
 def test_the_documented_host_program_positions_axis_1():
@@ -66,8 +66,8 @@ def test_pip_installs_the_package_from_the_checkout(tmp_path):
                         "--no-build-isolation", "--no-deps", "--target", str(target), str(src)],
                        capture_output=True, text=True, timeout=300, cwd=str(tmp_path))
     assert r.returncode == 0, r.stdout + r.stderr
-    check = ("import mac4, sys; print(mac4.__file__); "
-             "print(mac4.load_dictionary().resolve('WAP').code)")
+    check = ("import mac4card, sys; print(mac4card.__file__); "
+             "print(mac4card.load_dictionary().resolve('WAP').code)")
     r = subprocess.run([sys.executable, "-c", check], capture_output=True, text=True,
                        timeout=60, cwd=str(tmp_path),
                        env=dict(os.environ, PYTHONPATH=str(target),
@@ -79,7 +79,7 @@ def test_pip_installs_the_package_from_the_checkout(tmp_path):
 
 @pytest.fixture
 def card():
-    with mac4.connect("sim:inc") as c:
+    with mac4card.connect("sim:inc") as c:
         yield c
 
 
@@ -99,12 +99,12 @@ def test_commands_answers_and_status_by_name(card):
     assert card.read("RAP") == -1234                 # signed, as the dictionary's range says
     assert card.status().mode == "enable"
     assert card.status(word="overall").bits == frozenset()
-    with pytest.raises(mac4.Mac4Error, match="unknown mnemonic"):
+    with pytest.raises(mac4card.Mac4Error, match="unknown mnemonic"):
         card.command("NOSUCH")
 
 
 def test_syntax_error_is_acknowledged_and_raised(card):
-    with pytest.raises(mac4.CardError) as e:
+    with pytest.raises(mac4card.CardError) as e:
         card.command(1)                              # code 1: not implemented
     assert e.value.code == 161 and e.value.bits == {"syn_f"}
     assert not e.value.raised_by_card and e.value.acknowledged
@@ -113,7 +113,7 @@ def test_syntax_error_is_acknowledged_and_raised(card):
 
 
 def test_false_axis_is_acknowledged(card):
-    with pytest.raises(mac4.CardError) as e:
+    with pytest.raises(mac4card.CardError) as e:
         card.command("VER", axis=7)
     assert e.value.code == 160 and e.value.axis == 7 and e.value.bits == {"axis_f"}
     assert not e.value.raised_by_card and e.value.acknowledged
@@ -122,10 +122,10 @@ def test_false_axis_is_acknowledged(card):
 
 def test_without_ack_the_card_refuses_until_c(card):
     card.ack_errors = False
-    with pytest.raises(mac4.CardError) as e:
+    with pytest.raises(mac4card.CardError) as e:
         card.command(1)
     assert not e.value.acknowledged
-    with pytest.raises(mac4.CardError) as e2:        # 6.3: C first
+    with pytest.raises(mac4card.CardError) as e2:        # 6.3: C first
         card.command("INIT")
     assert e2.value.code == 163
     assert card.acknowledge().ok and card.command("INIT").ok
@@ -140,7 +140,7 @@ def following_error(card):
 
 def test_wait_for_raises_the_following_error(card):
     following_error(card)
-    with pytest.raises(mac4.CardError) as e:
+    with pytest.raises(mac4card.CardError) as e:
         card.wait_for("pos_end", timeout=10)
     assert "ferr_f" in e.value.bits and e.value.raised_by_card and e.value.acknowledged
     card.t.wait(2000)                                # the card brakes the axis and disables it
@@ -148,7 +148,7 @@ def test_wait_for_raises_the_following_error(card):
 
 
 def test_retry_sends_again_after_an_error_the_card_raised():
-    with mac4.connect("sim:inc", retry=True) as card:
+    with mac4card.connect("sim:inc", retry=True) as card:
         following_error(card)
         card.t.wait(3000)                            # the following error happens meanwhile
         r = card.command("WPV", 50)                  # answered with the pending error first
@@ -159,8 +159,8 @@ def test_retry_sends_again_after_an_error_the_card_raised():
 
 
 def test_no_retry_for_the_commands_own_fault():
-    with mac4.connect("sim:inc", retry=True) as card:
-        with pytest.raises(mac4.CardError) as e:
+    with mac4card.connect("sim:inc", retry=True) as card:
+        with pytest.raises(mac4card.CardError) as e:
             card.command(1)
         assert e.value.code == 161 and len(card.errors) == 1
 
@@ -168,11 +168,11 @@ def test_no_retry_for_the_commands_own_fault():
 def test_wait_for_times_out_in_card_time(card):
     enable(card)
     t0 = card.t.clock()
-    with pytest.raises(mac4.Timeout) as e:
+    with pytest.raises(mac4card.Timeout) as e:
         card.wait_for("pos_end", timeout=0.5)        # no move commanded
     assert 0.5 <= card.t.clock() - t0 < 1.0
     assert e.value.status.mode == "enable"
-    with pytest.raises(mac4.Mac4Error, match="not a bit"):
+    with pytest.raises(mac4card.Mac4Error, match="not a bit"):
         card.wait_for("no_such_bit")
 
 
@@ -180,7 +180,7 @@ def test_connect_to_an_emulated_card_over_tcp():
     from test_serial_connectors import Card as Sim, tcp_port
     sim = Sim(["--serial-tcp", "0", "--serve-seconds", "20"])
     try:
-        with mac4.connect("socket://127.0.0.1:%d" % tcp_port(sim)) as card:
+        with mac4card.connect("socket://127.0.0.1:%d" % tcp_port(sim)) as card:
             assert card.card == "inc" and card.version["software"]   # from VER
             enable(card)
             card.command("WPV", 100)
@@ -194,7 +194,7 @@ def test_connect_to_an_emulated_card_over_tcp():
 
 
 def test_connect_to_nothing_is_a_transport_error(tmp_path):
-    with pytest.raises(mac4.TransportError, match="cannot open"):
-        mac4.connect(str(tmp_path / "nosuch"))
-    with pytest.raises(mac4.TransportError, match="inc, ssi and stp"):
-        mac4.connect("sim:xyz")
+    with pytest.raises(mac4card.TransportError, match="cannot open"):
+        mac4card.connect(str(tmp_path / "nosuch"))
+    with pytest.raises(mac4card.TransportError, match="inc, ssi and stp"):
+        mac4card.connect("sim:xyz")

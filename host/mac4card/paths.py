@@ -1,6 +1,6 @@
 """Where the card's files are: the command dictionary and the emulator.
 
-In the checkout (host/mac4/ beside build/) they are found there; an
+In the checkout (host/mac4card/ beside build/) they are found there; an
 installed package looks at $MAC4_COMMANDS and $MAC4SIM, then ./build/."""
 import os
 

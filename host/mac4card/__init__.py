@@ -1,7 +1,7 @@
 """mac4 - the host side of the MACCON MAC4 axis controller.
 
-    import mac4
-    with mac4.connect("sim:inc") as card:           # or "socket://127.0.0.1:PORT", "/dev/ttyS0"
+    import mac4card
+    with mac4card.connect("sim:inc") as card:           # or "socket://127.0.0.1:PORT", "/dev/ttyS0"
         card.command("WAP", 8000, axis=0)           # axis 0 = the manual's axis 1
         card.wait_for("pos_end", axis=0, timeout=5)
 
