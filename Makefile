@@ -208,6 +208,16 @@ cppcheck: deps
 	@echo "cppcheck firmware/ hal/native/ (HAL_NATIVE)"
 	@$(CPPCHECK) $(CPPCHECK_FLAGS) -DHAL_NATIVE -DMAC4_CARD=0 -Iharness firmware hal/native
 
+# ---- the board description (docs/board.md): board/mac4.toml generates
+# hal/mac4_map.h, harness/bus_map.h and host/mac4card/board.py; `make board`
+# after changing it, `board-check` fails when they differ from it ----------
+.PHONY: board board-check
+board:
+	$(PYTHON) tools/genboard.py board/mac4.toml
+board-check:
+	$(PYTHON) tools/genboard.py --check board/mac4.toml
+test: board-check
+
 # native/68000 agreement and the cycle budgets last (docs/performance.md)
 test: differential timing
 

@@ -1,6 +1,6 @@
 /*
  * bus.c - the IPC's local bus as a table of regions (MAME-style address
- * map).  68000 long accesses are two word cycles, high word first, as on
+ * map), its rows generated from the board description (bus_map.h).  68000 long accesses are two word cycles, high word first, as on
  * the card's 16-bit bus.  Accesses outside every region, writes to the
  * EPROM and byte writes to word-wide I/O registers are faults: reported
  * with the PC, never ignored.
@@ -71,17 +71,7 @@ typedef struct {
 } region_t;
 
 static const region_t regions[] = {
-    {DPRAM_BASE, DPRAM_SIZE, "dpram", dpram_rd, dpram_wr, 0},
-    {EPROM_BASE, EPROM_SIZE, "eprom", eprom_rd, eprom_wr, 0},
-    {SRAM_BASE, SRAM_SIZE, "sram", sram_rd, sram_wr, 0},
-    {VME_WIN_BASE, VME_WIN_SIZE, "vme", vme_win_rd, vme_win_wr, 0},
-    {IO_BASE + 0x000, 0x10, "sys", sys_rd, sys_wr, 1},
-    {IO_BASE + 0x100, 0x10, "timer", tmr_rd, tmr_wr, 1},
-    {IO_BASE + 0x200, 0x10, "uart", uart_rd, uart_wr, 1},
-    {IO_BASE + 0x300, 0x10, "virq", virq_rd, virq_wr, 1},
-    {IO_BASE + 0x400, 0x02, "watchdog", wdg_rd, wdg_wr, 1},
-    {AXIS_BASE, MAC4_NAXES * AXIS_STRIDE, "axis", axis_rd, axis_wr, 1},
-    {AXIS_IRQ_PENDING, 0x02, "axis-irq", axis_irq_rd, axis_irq_wr, 1},
+#include "bus_map.h"          /* generated from board/mac4.toml (docs/board.md) */
 };
 #define NREGIONS (sizeof regions / sizeof regions[0])
 

@@ -13,7 +13,7 @@ static uint8_t page[1u << 16];
 const uint8_t *buswait_page = page;
 
 const char *const buswait_names[BW_NREGIONS] = {
-#define BW_NAME(name, base, size, rd, wr) #name,
+#define BW_NAME(name, base, size, rd, wr) name,
     MAC4_BUS_TIMING(BW_NAME)
 #undef BW_NAME
     "unmapped",

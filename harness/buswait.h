@@ -11,13 +11,10 @@
 #include <stdio.h>
 #include "mac4_map.h"
 
-enum {
-#define BW_ENUM(name, base, size, rd, wr) BW_##name,
-    MAC4_BUS_TIMING(BW_ENUM)
-#undef BW_ENUM
-    BW_UNMAPPED,
-    BW_NREGIONS
-};
+/* Regions: the rows of MAC4_BUS_TIMING in order, then the unmapped rest. */
+#define BW_COUNT(name, base, size, rd, wr) +1
+enum { BW_UNMAPPED = 0 MAC4_BUS_TIMING(BW_COUNT), BW_NREGIONS };
+#undef BW_COUNT
 
 enum { BW_IACK_AUTOVECTOR, BW_IACK_VECTORED };
 

@@ -31,13 +31,19 @@ static void usage(FILE *f)
             "  --wait-states SPEC   bus timing (docs/memory-map.md, \"Bus timing\"): N for every\n"
             "                       region, or REGION[.read|.write]=N,... over the defaults\n"
             "                       of hal/mac4_map.h (regions: dpram eprom sram vme sys\n"
-            "                       timer uart virq watchdog axis axisirq unmapped)\n"
+            "                       timer uart virq watchdog axis axis-irq unmapped)\n"
             "  --iack autovector|vectored  interrupt acknowledge (default autovector, via VPA)\n"
             "  --allow-faults       exit 0 even when the emulator saw faults\n"
             "  --serial-pty         front-panel serial line on a pseudo-terminal (prints\n"
             "                       'serial-pty /dev/pts/N'); after the script the card\n"
             "                       keeps running in real time until the pty is closed\n"
-            "  --serve-seconds N    with --serial-pty: stop serving after N seconds\n"
+            "  --serial-pty-link PATH  the same, and a symbolic link PATH to the pty\n"
+            "  --serial-tcp PORT    front-panel serial line as a raw byte stream on TCP\n"
+            "                       127.0.0.1:PORT (0: any free port; prints 'serial-tcp N');\n"
+            "                       after the script as --serial-pty, until the client closes\n"
+            "  --serve-seconds N    serve the line for N seconds instead, keeping the card\n"
+            "                       running while clients disconnect and reconnect\n"
+            "  --serial-log FILE    write the serial session as a host script that replays it\n"
             "  --help               this text\n"
             "Exit status: 0 ok, 1 usage or script error, 3 emulator faults seen.\n");
 }
@@ -50,7 +56,7 @@ int main(int argc, char **argv)
     if (mac4sim_native_card)
         cardname = mac4sim_native_card() == MAC4_CARD_STP ? "stp" : mac4sim_native_card() == MAC4_CARD_SSI ? "ssi" : "inc";
     int allow_faults = 0, timestamps = 0, level = 3, j11 = 1;
-    int serial_pty = 0;          /* --serial-pty, --serve-seconds: docs/serial.md */
+    serial_opts_t serial = {SERIAL_CONN_NONE, NULL, 0, NULL};   /* docs/serial.md */
     double serve_seconds = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -90,8 +96,30 @@ int main(int argc, char **argv)
             timestamps = 1;
         } else if (!strcmp(a, "--allow-faults")) {
             allow_faults = 1;
-        } else if (!strcmp(a, "--serial-pty")) {
-            serial_pty = 1;
+        } else if (!strcmp(a, "--serial-pty") || (!strcmp(a, "--serial-pty-link") && val)) {
+            if (serial.kind == SERIAL_CONN_TCP) {
+                fprintf(stderr, "mac4sim: one serial connector: --serial-pty or --serial-tcp\n");
+                return 1;
+            }
+            serial.kind = SERIAL_CONN_PTY;
+            if (a[12]) {
+                serial.pty_link = val;
+                i++;
+            }
+        } else if (!strcmp(a, "--serial-tcp") && val) {
+            char *end;
+            long port = strtol(val, &end, 10);
+            if (end == val || *end || port < 0 || port > 65535 || serial.kind == SERIAL_CONN_PTY) {
+                fprintf(stderr, "mac4sim: bad --serial-tcp '%s' (a port 0..65535, 0: any; "
+                        "not with --serial-pty)\n", val);
+                return 1;
+            }
+            serial.kind = SERIAL_CONN_TCP;
+            serial.tcp_port = (int)port;
+            i++;
+        } else if (!strcmp(a, "--serial-log") && val) {
+            serial.log = val;
+            i++;
         } else if (!strcmp(a, "--serve-seconds") && val) {
             char *end;
             serve_seconds = strtod(val, &end);
@@ -144,7 +172,7 @@ int main(int argc, char **argv)
             profile_load_symbols(sym);
         }
     }
-    if (serial_host_init(&card, serial_pty))
+    if (serial_host_init(&card, &serial))
         return 1;
     sim_attach_cpu(&card, serial_host_cpu(mac4sim_native_cpu ? mac4sim_native_cpu() : &cpu_m68k));
 

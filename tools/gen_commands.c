@@ -123,7 +123,14 @@ int main(void)
     jstr(desc);                                                                         \
     printf(", \"status_word\": \"%s\"}", #bit[0] == 'O' ? "overall" : "user");
 #include "commands.def"
-    printf("\n  ],\n  \"status\": {\n");
+    /* The user status bits that mean an error (status.h US_ERRORS): a host
+     * waiting for an event stops at any of them. */
+    printf("\n  ],\n  \"user_error_bits\": [");
+    nout = 0;
+#define USTAT(id, bit, name, desc) \
+    if (UB(id) & US_ERRORS) printf("%s\"%s\"", nout++ ? ", " : "", name);
+#include "status.def"
+    printf("],\n  \"status\": {\n");
     const char *sep;
     sep = "";
     printf("    \"user\": [");

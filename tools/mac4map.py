@@ -1,6 +1,7 @@
-"""mac4map.py - the Python side of hal/mac4_map.h, read from the header
-itself (one source): the bus timing table MAC4_BUS_TIMING (docs/memory-map.md,
-"Bus timing") and the constants beside it.
+"""mac4map.py - the bus timing of hal/mac4_map.h (generated from
+board/mac4.toml, docs/board.md), read from the header the emulator is built
+with: the table MAC4_BUS_TIMING (docs/memory-map.md, "Bus timing") and the
+constants beside it, with their C expressions evaluated.
 
     import mac4map
     mac4map.bus_timing()   # [{"name", "base", "size", "read", "write"}], the regions in order
@@ -57,7 +58,7 @@ def bus_timing():
     rows = []
     for x in re.finditer(r"X\(([^()]*(?:\([^()]*\)[^()]*)*)\)", m.group(1)):
         name, base, size, rd, wr = [p.strip() for p in x.group(1).split(",")]
-        rows.append({"name": name, "base": _eval(base, defs), "size": _eval(size, defs),
+        rows.append({"name": name.strip('"'), "base": _eval(base, defs), "size": _eval(size, defs),
                      "read": int(rd), "write": int(wr)})
     return rows
 

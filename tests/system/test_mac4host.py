@@ -265,8 +265,9 @@ def test_serial_through_emulator_pty():
     h = subprocess.run([SIM, "--help"], capture_output=True, text=True)
     if "--serial-pty" not in h.stdout + h.stderr:
         pytest.skip("build/mac4sim has no --serial-pty yet")
-    p = subprocess.Popen([SIM, "--card", "inc", "--serial-pty", "--serve-seconds", "20",
-                          "--script", "-"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+    # without --serve-seconds the card stops when the client closes the pty
+    p = subprocess.Popen([SIM, "--card", "inc", "--serial-pty", "--script", "-"],
+                         stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True)
     try:
         p.stdin.write("wait-display 5\n")
@@ -287,7 +288,85 @@ def test_serial_through_emulator_pty():
         assert rs[0]["version"]["card"] == "inc" and r.returncode == 0
     finally:
         try:
-            p.wait(25)
+            p.wait(10)
         except subprocess.TimeoutExpired:
             p.kill()
             p.wait()
+            raise
+
+
+# ---- bad input: one line on stderr, a non-zero exit, never a traceback --------------
+
+def _bad_dict(tmp_path, how):
+    data = json.loads(open(mac4host.DEFAULT_DICT).read())
+    if how == "aliases-list":
+        data["aliases"] = list(data["aliases"].items())
+    elif how == "status-list":
+        data["status"] = list(data["status"].values())
+    elif how == "mnemonic-number":
+        data["commands"][0]["mnemonic"] = 7
+    elif how == "status-word-of-strings":
+        data["status"]["user"] = ["mode", "dr_en"]
+    elif how == "code-string":
+        data["commands"][3]["code"] = "70"
+    f = tmp_path / ("%s.json" % how)
+    if how == "deep":
+        f.write_text("[" * 100000 + "]" * 100000)
+    else:
+        f.write_text(json.dumps(data))
+    return str(f)
+
+
+BAD_DICTS = ["aliases-list", "status-list", "mnemonic-number", "deep", "status-word-of-strings",
+             "code-string"]
+SUBCOMMANDS = [["dict"], ["decode", "user", "0x02002108"], ["send", "0", "VER"],
+               ["batch", "-"]]
+
+
+def one_line_error(r):
+    assert r.returncode == mac4host.EXIT_USAGE, (r.returncode, r.stderr)
+    assert "Traceback" not in r.stderr, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("mac4host: "), r.stderr
+    return lines[0]
+
+
+@pytest.mark.parametrize("how", BAD_DICTS)
+@pytest.mark.parametrize("sub", SUBCOMMANDS, ids=lambda s: s[0])
+def test_bad_dictionary_is_one_line(tmp_path, how, sub):
+    r = host("--dict", _bad_dict(tmp_path, how), *sub, stdin="0 VER\n", timeout=60)
+    line = one_line_error(r)
+    assert "not a MAC4 command dictionary" in line and r.stdout == "", line
+
+
+def test_bad_dictionary_names_the_field(tmp_path):
+    line = one_line_error(host("--dict", _bad_dict(tmp_path, "mnemonic-number"), "dict"))
+    assert "commands[0].mnemonic: expected a string, found a number" in line
+    line = one_line_error(host("--dict", _bad_dict(tmp_path, "aliases-list"), "dict"))
+    assert "aliases: expected an object, found a list" in line
+    line = one_line_error(host("--dict", _bad_dict(tmp_path, "deep"), "dict"))
+    assert "nested too deeply" in line
+    line = one_line_error(host("--dict", str(tmp_path), "dict"))
+    assert "is a directory" in line
+
+
+def test_batch_not_utf8_is_one_line(tmp_path):
+    f = tmp_path / "latin1.txt"
+    f.write_bytes(b"0 VER\n0 WAP 16  # Stra\xdfe\n")
+    line = one_line_error(host("batch", str(f)))
+    assert "latin1.txt:2: not UTF-8 text (byte $DF" in line
+    r = subprocess.run(HOST + ["batch", "-"], input=b"\xff\xfe0 VER\n", capture_output=True,
+                       timeout=60)
+    r.stderr, r.stdout = r.stderr.decode(), r.stdout.decode()
+    assert "stdin:1: not UTF-8 text (byte $FF" in one_line_error(r)
+    f.write_bytes(b"0 VER\n\x000 RCP\n")
+    assert "latin1.txt:2: a NUL byte" in one_line_error(host("batch", str(f)))
+    assert "is a directory" in one_line_error(host("batch", str(tmp_path)))
+
+
+def test_serial_port_that_does_not_open_is_one_line(tmp_path):
+    for port in (str(tmp_path / "nosuch"), "socket://127.0.0.1:1", "bogus://x"):
+        r = host("--serial", port, "send", "0", "VER", timeout=60)
+        assert r.returncode == mac4host.EXIT_TRANSPORT and "Traceback" not in r.stderr, r.stderr
+        assert r.stderr.startswith("mac4host: cannot open %s: " % port) and \
+            len(r.stderr.strip().splitlines()) == 1, r.stderr

@@ -232,8 +232,9 @@ def test_manual_7_3_1_response(i):
 
 class Pty:
     def __init__(self, extra=()):
-        self.p = subprocess.Popen([SIM, "--card", "inc", "--script", "-", "--serial-pty",
-                                   "--serve-seconds", "30"] + list(extra),
+        # without --serve-seconds: the card stops when this client closes the pty
+        self.p = subprocess.Popen([SIM, "--card", "inc", "--script", "-", "--serial-pty"]
+                                  + list(extra),
                                   stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
         try:
             first = self.p.stdout.readline().split()
@@ -262,8 +263,12 @@ class Pty:
 
     def close(self):
         os.close(self.fd)
-        out = self.p.stdout.read()
-        return self.p.wait(timeout=10), out
+        try:
+            self.p.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.p.kill()
+            raise
+        return self.p.returncode, self.p.stdout.read()
 
 
 def test_pty_telegram_round_trip():
