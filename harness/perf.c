@@ -263,6 +263,14 @@ static void instr_hook(unsigned pc)
 
 static void update_hook(void) { profile_set_hook(nprobes || track ? instr_hook : NULL); }
 
+/* The axis board's interrupts by how many step pulses each served (the
+ * AX_CTRL writes with AX_CTRL_PULSE_ACK while it ran, on_bus_write): the
+ * creep's and the UART's bounds charge a pulse the worst cost per pulse
+ * (perfscen.creep_wait), not the worst interrupt, which may serve four. */
+#define PULSE_MAX 4
+static stat_t pulse_st[PULSE_MAX + 1];
+static unsigned axis_isr_acks;
+
 static void on_irq_leave(sim_t *s, int src, cyc_t start, cyc_t dur, cyc_t excl, int depth)
 {
     (void)s;
@@ -275,6 +283,10 @@ static void on_irq_leave(sim_t *s, int src, cyc_t start, cyc_t dur, cyc_t excl, 
     if (depth < 9)
         isr_probe_cycles[depth] = 0;
     stat_add(&net[src], excl > in ? excl - in : 0, start);
+    if (src == SRC_AXIS) {
+        stat_add(&pulse_st[axis_isr_acks < PULSE_MAX ? axis_isr_acks : PULSE_MAX], excl > in ? excl - in : 0, start);
+        axis_isr_acks = 0;
+    }
 }
 
 /* ---- latency ----------------------------------------------------------------- */
@@ -302,7 +314,9 @@ static void check_reset(sim_t *s)
 
 static void on_bus_write(sim_t *s, uint32_t addr, uint32_t v, int size)
 {
-    (void)v;
+    if (addr - AXIS_BASE < MAC4_NAXES * AXIS_STRIDE && (addr & 0xFF) == AX_CTRL && (v & AX_CTRL_PULSE_ACK)
+        && s->nactive && s->active[s->nactive - 1].src == SRC_AXIS)
+        axis_isr_acks++;               /* a pulse served by the axis interrupt that runs */
     uint32_t lo = addr & 0xFFFF;
     if (addr >= DPRAM_SIZE)
         return;
@@ -438,6 +452,9 @@ static void window_reset(sim_t *s)
         s->irq[i].min = s->irq[i].xmin = CYC_NEVER;
         stat_clear(&net[i]);
     }
+    for (int j = 0; j <= PULSE_MAX; j++)
+        stat_clear(&pulse_st[j]);
+    axis_isr_acks = 0;
     s->irq_window_start = sim_now(s);
     for (int i = 0; i < nprobes; i++) {
         stat_clear(&probes[i].st);
@@ -583,6 +600,11 @@ static void print_net(void)
 {
     for (int i = 0; i < SRC_COUNT; i++)
         stat_print("perf-net", src_key[i], &net[i]);
+    for (int j = 0; j <= PULSE_MAX; j++) {
+        char name[16];
+        snprintf(name, sizeof name, "pulses=%d", j);
+        stat_print("perf-axis", name, &pulse_st[j]);
+    }
 }
 
 /* The cycle table for people, with the budgets (docs/performance.md):

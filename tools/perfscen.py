@@ -313,8 +313,9 @@ def uart_wait(card, uart, mask, tick, pulse):
     be read before the next one has arrived, one character time later.  The
     worst until its handler has done so: a main-loop masked section that has
     just begun, the one controller tick that can begin within a character
-    time (the period is longer), the STP's creep pulse interrupts of four
-    axes at up to 1 kHz (three each in a character time) and the handler."""
+    time (the period is longer), the STP's creep pulses of four axes at up
+    to 1 kHz (three each in a character time, each at the worst cost per
+    pulse, pulse_cost) and the handler."""
     pulses = 4 * -(-CHAR_CYCLES // (CPU_HZ // 1000)) if card == "stp" else 0
     return mask + tick + pulses * pulse + uart
 
@@ -330,15 +331,32 @@ def creep_starts(ms=1500):
     return "\n".join(lines) + "\n"
 
 
+def pulse_cost(results):
+    """What one step pulse of the creep phase costs at worst, cycles: over
+    the axis interrupts of the results by the pulses each served (perf-axis
+    pulses=J), the worst cost per pulse, max over J of ceil(c_J / J) - an
+    interrupt that serves J pulses at once costs c_J for all J, so any
+    number P of pulses, however the interrupts group them, costs at most P
+    times this.  An axis interrupt that served none (none is expected: the
+    index interrupt is never enabled) counts whole, as if for one pulse."""
+    per = 0
+    for r in results:
+        for j, st in r["pulses"].items():
+            if st.get("count"):
+                per = max(per, -(-st["max"] // max(j, 1)))
+    return per
+
+
 def creep_wait(results):
     """The creep phase's worst wait for a pulse interrupt, over the creep
     scenarios' results (creep(), creep_starts()): a main-loop masked section
     that has just begun, then a controller tick (level 6 outranks the axis
-    board's 5), then the pulse interrupts of all four axes.  None if a
-    scenario saw no pulse interrupt."""
+    board's 5), then the pulses of all four axes, each at the worst cost per
+    pulse (pulse_cost; "pulse_irq" is the worst interrupt, which may have
+    served several).  None if a scenario saw no pulse interrupt."""
     if not all(r["net"].get("axis", {}).get("count") for r in results):
         return None
-    w = {"pulse": max(r["net"]["axis"]["max"] for r in results),
+    w = {"pulse": pulse_cost(results), "pulse_irq": max(r["net"]["axis"]["max"] for r in results),
          "tick": max(worst(r, "timer") or 0 for r in results),
          "mask": max(masked_worst(r) or 0 for r in results)}
     w["need"] = w["mask"] + w["tick"] + 4 * w["pulse"]
@@ -525,7 +543,7 @@ def num(v):
 
 
 def parse(text):
-    r = {"irq": {}, "net": {}, "probe": {}, "period": {}, "pass": {}, "load": {}, "latency": {}, "stack": None, "mask": {},
+    r = {"irq": {}, "net": {}, "pulses": {}, "probe": {}, "period": {}, "pass": {}, "load": {}, "latency": {}, "stack": None, "mask": {},
          "peeks": [], "faults": [], "lines": text.splitlines()}
     for line in r["lines"]:
         parts = line.split()
@@ -537,6 +555,8 @@ def parse(text):
             r["irq"][parts[1]] = kv
         elif tag == "perf-net":
             r["net"][parts[1]] = kv
+        elif tag == "perf-axis":           # the axis interrupts by pulses served (harness/perf.c)
+            r["pulses"][int(parts[1].split("=")[1])] = kv
         elif tag == "perf-probe":
             r["probe"][parts[1]] = kv
         elif tag == "perf-probe-period":

@@ -106,6 +106,23 @@ def test_the_creep_scenarios_raise_pulse_interrupts():
     assert w is not None, "no pulse-count interrupts in the creep phase (moved %s)" % [
         ps.moved(scenario(n, "stp")) for n in ("creep", "creep_starts")]
     assert w["pulse"] > 0 and w["tick"] > 0 and w["mask"] > 0, w
+    # one pulse per interrupt is the common case; the cost per pulse is at
+    # most the worst interrupt's
+    for n in ("creep", "creep_starts"):
+        assert scenario(n, "stp")["pulses"][1]["count"] > 10, scenario(n, "stp")["pulses"]
+    assert w["pulse"] <= w["pulse_irq"], w
+
+
+def test_a_pulse_costs_the_worst_per_pulse_of_any_grouping():
+    """perfscen.pulse_cost: interrupts that serve several pulses at once
+    cost less per pulse than one each; the bound takes the worst per pulse
+    over the groupings seen, and an interrupt that served none counts whole."""
+    def res(**by_j):
+        return {"pulses": {int(k[1:]): {"count": 1, "max": v} for k, v in by_j.items()}}
+    assert ps.pulse_cost([res(j1=659, j3=991)]) == 659
+    assert ps.pulse_cost([res(j1=300, j4=2000)]) == 500
+    assert ps.pulse_cost([res(j1=300), res(j2=701)]) == 351
+    assert ps.pulse_cost([res(j0=800, j1=600)]) == 800
 
 
 # ---- interrupt latency: the main loop's masked sections -------------------------------
