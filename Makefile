@@ -178,9 +178,9 @@ bench: all $(B)/mac4bare
 
 # ---- bus timing: the wait-state model against the 68000 reference vectors ----
 # (docs/memory-map.md, "Bus timing"; tests/timing/test_bus_timing.py)
-$(B)/busvectors: tests/timing/busvectors.c harness/buswait.c harness/buswait.h hal/mac4_map.h $(MUSOBJ)
-	$(HOSTCC) $(HOSTCFLAGS) -Iharness -Ihal -I$(MUS) -DMUSASHI_CNF='"musashi_cnf.h"' \
-		tests/timing/busvectors.c harness/buswait.c $(MUSOBJ) -lm -o $@
+$(B)/busvectors: tests/timing/busvectors.c tests/conformance/sstfile.c tests/conformance/sstfile.h harness/buswait.c harness/buswait.h hal/mac4_map.h $(MUSOBJ)
+	$(HOSTCC) $(HOSTCFLAGS) -Iharness -Ihal -I$(MUS) -Itests/conformance -DMUSASHI_CNF='"musashi_cnf.h"' \
+		tests/timing/busvectors.c tests/conformance/sstfile.c harness/buswait.c $(MUSOBJ) -lm -o $@
 
 demo: all
 	@tools/demo.sh

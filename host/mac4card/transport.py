@@ -19,7 +19,18 @@ class TransportError(Exception):
     """The card or the emulator did not answer as it should."""
 
 
-class SimTransport:
+class _Transport:
+    """A transport is a context manager: opened on entry, closed on exit."""
+
+    def __enter__(self):
+        self.open()
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+class SimTransport(_Transport):
     """build/mac4sim with its host script on a pipe.  transact() writes
     `send AXIS CODE PARAM`, `run MS` and an `echo` marker and reads stdout up to
     the marker, running more emulated time until the response comes or
@@ -40,13 +51,6 @@ class SimTransport:
         self.emulated_ms = 0.0         # emulated time run since the card booted
         self.lines = []
         self.eof = False
-
-    def __enter__(self):
-        self.open()
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     def open(self):
         if not os.access(self.sim_path, os.X_OK):
@@ -197,7 +201,7 @@ class SimTransport:
             self.on_event("sim", "unsolicited " + line if line.startswith("resp") else line)
 
 
-class SerialTransport:
+class SerialTransport(_Transport):
     """A serial line at 4800 baud 8N1 (manual 3.3) through pyserial:
     `device` is anything serial.serial_for_url() opens."""
 
@@ -211,13 +215,6 @@ class SerialTransport:
         self.port = None
         self.dec = TelegramDecoder()
         self.pending = []
-
-    def __enter__(self):
-        self.open()
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     def open(self):
         try:

@@ -7,8 +7,9 @@
 SST_SHARED := $(firstword $(wildcard ../shared/m68000-tests ../../shared/m68000-tests))
 SST ?= $(if $(SST_SHARED),$(SST_SHARED),tests/conformance/vectors)
 .PHONY: conformance
-$(B)/sst: tests/conformance/sst.c $(MUSOBJ) harness/musashi_cnf.h
-	$(HOSTCC) $(HOSTCFLAGS) -Iharness -Ihal -I$(MUS) -DMUSASHI_CNF='"musashi_cnf.h"' $< $(MUSOBJ) -lm -o $@
+$(B)/sst: tests/conformance/sst.c tests/conformance/sstfile.c tests/conformance/sstfile.h $(MUSOBJ) harness/musashi_cnf.h
+	$(HOSTCC) $(HOSTCFLAGS) -Iharness -Ihal -I$(MUS) -Itests/conformance -DMUSASHI_CNF='"musashi_cnf.h"' \
+		tests/conformance/sst.c tests/conformance/sstfile.c $(MUSOBJ) -lm -o $@
 conformance: $(B)/sst
 	$(B)/sst $(SST)
 	$(PYTHON) -m pytest -q tests/conformance

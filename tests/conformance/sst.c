@@ -32,6 +32,7 @@
 
 #include "m68k.h"
 #include "m68kcpu.h"
+#include "sstfile.h"
 
 /* ---- the hooks harness/musashi_cnf.h names (cpu_m68k.c gives mac4sim's) -- */
 int mac4_profiling;
@@ -88,116 +89,6 @@ unsigned int m68k_read_disassembler_8(unsigned int a) { return rd(a); }
 unsigned int m68k_read_disassembler_16(unsigned int a) { return rd(a) << 8 | rd(a + 1); }
 unsigned int m68k_read_disassembler_32(unsigned int a) { return rd(a) << 24 | rd(a + 1) << 16 | rd(a + 2) << 8 | rd(a + 3); }
 
-/* ---- the vector files ---------------------------------------------------- */
-enum { R_D0 = 0, R_A0 = 8, R_USP = 15, R_SSP = 16, R_SR = 17, R_PC = 18, NREG = 19 };
-static const char *const reg_name[NREG] = {"d0", "d1", "d2", "d3", "d4", "d5", "d6", "d7", "a0", "a1",
-                                           "a2", "a3", "a4", "a5", "a6", "usp", "ssp", "sr", "pc"};
-typedef struct {
-    uint32_t reg[NREG];
-    uint32_t prefetch[2];
-    uint32_t nram;
-    const uint8_t *ram;   /* nram entries of u32 address, u16 word */
-} state_t;
-typedef struct {
-    char name[128];
-    state_t init, fin;
-    uint32_t cycles, reads, writes;
-    int addr_error;       /* the reference ends in an address error */
-} test_t;
-
-typedef struct {
-    const uint8_t *p, *end, *base;
-    const char *file;
-    int bad;
-} rdr_t;
-
-static uint32_t u32(rdr_t *r)
-{
-    if (r->end - r->p < 4) {
-        r->bad = 1;
-        return 0;
-    }
-    uint32_t v = (uint32_t)r->p[0] | (uint32_t)r->p[1] << 8 | (uint32_t)r->p[2] << 16 | (uint32_t)r->p[3] << 24;
-    r->p += 4;
-    return v;
-}
-static uint32_t le32(const uint8_t *p) { return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24; }
-static uint16_t le16(const uint8_t *p) { return (uint16_t)(p[0] | p[1] << 8); }
-
-static int bad(rdr_t *r, const char *what)
-{
-    fprintf(stderr, "sst: %s: malformed vector file (%s at byte %ld)\n", r->file, what, (long)(r->p - r->base));
-    r->bad = 1;
-    return -1;
-}
-
-static int read_state(rdr_t *r, state_t *s)
-{
-    const uint8_t *start = r->p;
-    uint32_t size = u32(r);
-    if (u32(r) != 0x01234567u || r->bad)
-        return bad(r, "state magic");
-    for (int i = 0; i < NREG; i++)
-        s->reg[i] = u32(r);
-    s->prefetch[0] = u32(r);
-    s->prefetch[1] = u32(r);
-    s->nram = u32(r);
-    if (r->bad || (uint64_t)s->nram * 6 > (uint64_t)(r->end - r->p))
-        return bad(r, "state RAM");
-    s->ram = r->p;
-    r->p += s->nram * 6;
-    if ((uint32_t)(r->p - start) != size)
-        return bad(r, "state size");
-    return 0;
-}
-
-static int read_test(rdr_t *r, test_t *t)
-{
-    const uint8_t *start = r->p;
-    uint32_t size = u32(r);
-    if (u32(r) != 0xABC12367u || r->bad || size > (uint32_t)(r->end - start))
-        return bad(r, "test magic");
-    const uint8_t *tend = start + size;
-    u32(r);
-    if (u32(r) != 0x89ABCDEFu)
-        return bad(r, "name magic");
-    uint32_t len = u32(r);
-    if (r->bad || len > (uint32_t)(tend - r->p))
-        return bad(r, "name");
-    snprintf(t->name, sizeof t->name, "%.*s", (int)len, (const char *)r->p);
-    r->p += len;
-    if (read_state(r, &t->init) || read_state(r, &t->fin))
-        return -1;
-    u32(r);
-    if (u32(r) != 0x456789ABu)
-        return bad(r, "transactions magic");
-    t->cycles = u32(r);
-    uint32_t n = u32(r);
-    t->reads = t->writes = 0;
-    t->addr_error = 0;
-    for (uint32_t i = 0; i < n && !r->bad; i++) {
-        if (r->p + 5 > tend)
-            return bad(r, "transaction");
-        uint8_t kind = r->p[0];
-        r->p += 5;
-        if (kind == 0)
-            continue;
-        if (r->p + 20 > tend)
-            return bad(r, "transaction");
-        r->p += 20;
-        switch (kind) {
-        case 1: t->writes++; break;
-        case 2: t->reads++; break;
-        case 3: t->reads++; t->writes++; break;
-        case 4: case 5: t->addr_error = 1; break;
-        default: return bad(r, "transaction kind");
-        }
-    }
-    if (r->bad || r->p != tend)
-        return bad(r, "test size");
-    return 0;
-}
-
 /* ---- one test --------------------------------------------------------------- */
 typedef struct {
     const char *file;
@@ -210,10 +101,10 @@ enum { F_RAM = NREG, F_CYCLES, F_READS, F_WRITES };
 static const char *field_name(int f)
 {
     static const char *const extra[] = {"ram", "cycles", "reads", "writes"};
-    return f < NREG ? reg_name[f] : extra[f - NREG];
+    return f < NREG ? sst_reg_name[f] : extra[f - NREG];
 }
 
-static int mismatch(fstat_t *fs, const test_t *t, int field, const char *fmt, ...)
+static int mismatch(fstat_t *fs, const sst_test_t *t, int field, const char *fmt, ...)
 {
     fs->by_field[field]++;
     if (fs->max_shown == 0 || fs->shown < fs->max_shown) {
@@ -227,19 +118,19 @@ static int mismatch(fstat_t *fs, const test_t *t, int field, const char *fmt, ..
     return 1;
 }
 
-static void load_ram(const state_t *s)
+static void load_ram(const sst_state_t *s)
 {
     for (uint32_t i = 0; i < s->nram; i++) {
-        uint32_t a = le32(s->ram + 6 * i) & 0xFFFFFF;
-        uint16_t w = le16(s->ram + 6 * i + 4);
+        uint32_t a = sst_le32(s->ram + 6 * i) & 0xFFFFFF;
+        uint16_t w = sst_le16(s->ram + 6 * i + 4);
         wr(a, w >> 8);
         wr(a + 1, w);
     }
 }
 
-static int run_test(fstat_t *fs, const test_t *t)
+static int run_test(fstat_t *fs, const sst_test_t *t)
 {
-    const state_t *in = &t->init, *out = &t->fin;
+    const sst_state_t *in = &t->init, *out = &t->fin;
     load_ram(in);
     uint32_t pc = in->reg[R_PC] - 4;   /* the reference's pc is 4 ahead (two prefetched words) */
     wr(pc, in->prefetch[0] >> 8);
@@ -286,8 +177,8 @@ static int run_test(fstat_t *fs, const test_t *t)
             bad |= mismatch(fs, t, i, "expected $%08X seen $%08X", e, s);
     }
     for (uint32_t i = 0; i < out->nram; i++) {
-        uint32_t a = le32(out->ram + 6 * i) & 0xFFFFFF;
-        unsigned e = le16(out->ram + 6 * i + 4), s = rd(a) << 8 | rd(a + 1);
+        uint32_t a = sst_le32(out->ram + 6 * i) & 0xFFFFFF;
+        unsigned e = sst_le16(out->ram + 6 * i + 4), s = rd(a) << 8 | rd(a + 1);
         if (e != s)
             bad |= mismatch(fs, t, F_RAM, "[$%06X] expected $%04X seen $%04X", a, e, s);
     }
@@ -310,28 +201,6 @@ static char aerr_line[8192];
 static int max_shown = 10;
 static int verbose;
 
-static uint8_t *slurp(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        fprintf(stderr, "sst: %s: %s\n", path, strerror(errno));
-        return NULL;
-    }
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    uint8_t *b = n > 0 ? malloc((size_t)n) : NULL;
-    if (!b || fread(b, 1, (size_t)n, f) != (size_t)n) {
-        fprintf(stderr, "sst: %s: %s\n", path, n == 0 ? "empty file" : "cannot read");
-        fclose(f);
-        free(b);
-        return NULL;
-    }
-    fclose(f);
-    *len = (size_t)n;
-    return b;
-}
-
 /* The instruction group of a file: its name up to ".json.bin". */
 static void group_of(const char *path, char *out, size_t n)
 {
@@ -346,12 +215,12 @@ static void group_of(const char *path, char *out, size_t n)
 static int run_file(const char *path)
 {
     size_t len;
-    uint8_t *buf = slurp(path, &len);
+    uint8_t *buf = sst_slurp("sst", path, &len);
     if (!buf)
         return -1;
     char group[64];
     group_of(path, group, sizeof group);
-    rdr_t r = {buf, buf + len, buf, path, 0};
+    sst_reader_t r;
     fstat_t fs;
     memset(&fs, 0, sizeof fs);
     fs.file = group;
@@ -360,15 +229,14 @@ static int run_file(const char *path)
     int skip_file = !strcmp(group, "TAS") || !strcmp(group, "TRAPV");
     if (!strcmp(group, "ABCD") || !strcmp(group, "SBCD") || !strcmp(group, "NBCD"))
         fs.sr_mask &= ~0x000Au;   /* N and V: undefined (M68000PRM) */
-    if (u32(&r) != 0x1A3F5D71u) {
-        bad(&r, "file magic");
+    uint32_t count;
+    if (sst_open(&r, "sst", path, buf, len, &count)) {
         free(buf);
         return -1;
     }
-    uint32_t count = u32(&r);
-    test_t t;
+    sst_test_t t;
     for (uint32_t i = 0; i < count; i++) {
-        if (read_test(&r, &t)) {
+        if (sst_read_test(&r, &t, NULL, NULL)) {
             free(buf);
             return -1;
         }
@@ -389,8 +257,7 @@ static int run_file(const char *path)
                 fs.shown++;
         }
     }
-    if (r.p != r.end) {
-        bad(&r, "trailing bytes");
+    if (sst_close(&r)) {
         free(buf);
         return -1;
     }

@@ -27,6 +27,7 @@
 #include "m68k.h"
 #include "m68kcpu.h"
 #include "buswait.h"
+#include "sstfile.h"
 
 static uint8_t *mem;                     /* 16 MiB, the 24-bit space */
 static uint64_t made[BW_NREGIONS][2];    /* the core's bus cycles in this test */
@@ -80,72 +81,28 @@ unsigned int m68k_read_disassembler_8(unsigned int a) { return rd(a, 1); }
 unsigned int m68k_read_disassembler_16(unsigned int a) { return rd(a, 2); }
 unsigned int m68k_read_disassembler_32(unsigned int a) { return rd(a, 4); }
 
-/* ---- the vector files ---------------------------------------------------- */
-typedef struct { const uint8_t *p, *end; int bad; } rd_t;
-static uint32_t u32(rd_t *r)
-{
-    if (r->end - r->p < 4) {
-        r->bad = 1;
-        return 0;
-    }
-    uint32_t v = (uint32_t)r->p[0] | (uint32_t)r->p[1] << 8 | (uint32_t)r->p[2] << 16 | (uint32_t)r->p[3] << 24;
-    r->p += 4;
-    return v;
-}
-static uint8_t u8(rd_t *r)
-{
-    if (r->p >= r->end) {
-        r->bad = 1;
-        return 0;
-    }
-    return *r->p++;
-}
-
-typedef struct {
-    uint32_t reg[19], pref[2];
-    uint32_t nram;
-    const uint8_t *ram;
-} state_t;
-
-static void state(rd_t *r, state_t *s)
-{
-    u32(r);
-    if (u32(r) != 0x01234567u)
-        r->bad = 1;
-    for (int i = 0; i < 19; i++)
-        s->reg[i] = u32(r);
-    s->pref[0] = u32(r);
-    s->pref[1] = u32(r);
-    s->nram = u32(r);
-    s->ram = r->p;
-    if ((size_t)(r->end - r->p) < (size_t)s->nram * 6u)
-        r->bad = 1;
-    else
-        r->p += (size_t)s->nram * 6u;
-}
-
-static void load(const state_t *s)
+/* ---- a test: the vector files through tests/conformance/sstfile.h ------- */
+static void load(const sst_state_t *s)
 {
     for (uint32_t i = 0; i < s->nram; i++) {
         const uint8_t *e = s->ram + 6 * i;
-        uint32_t a = (uint32_t)e[0] | (uint32_t)e[1] << 8 | (uint32_t)e[2] << 16 | (uint32_t)e[3] << 24;
-        wr(a & 0xFFFFFE, (unsigned)(e[4] | e[5] << 8), 2);
+        wr(sst_le32(e) & 0xFFFFFE, sst_le16(e + 4), 2);
     }
     /* the two prefetched words are the instruction's first: at pc - 4 */
-    wr((s->reg[18] - 4) & 0xFFFFFE, s->pref[0], 2);
-    wr((s->reg[18] - 2) & 0xFFFFFE, s->pref[1], 2);
-    m68k_set_reg(M68K_REG_SR, s->reg[17]);
-    m68k_set_reg(M68K_REG_ISP, s->reg[16]);
-    m68k_set_reg(M68K_REG_USP, s->reg[15]);
+    wr((s->reg[R_PC] - 4) & 0xFFFFFE, s->prefetch[0], 2);
+    wr((s->reg[R_PC] - 2) & 0xFFFFFE, s->prefetch[1], 2);
+    m68k_set_reg(M68K_REG_SR, s->reg[R_SR]);
+    m68k_set_reg(M68K_REG_ISP, s->reg[R_SSP]);
+    m68k_set_reg(M68K_REG_USP, s->reg[R_USP]);
     for (int i = 0; i < 8; i++)
-        m68k_set_reg((m68k_register_t)(M68K_REG_D0 + i), s->reg[i]);
+        m68k_set_reg((m68k_register_t)(M68K_REG_D0 + i), s->reg[R_D0 + i]);
     for (int i = 0; i < 7; i++)
-        m68k_set_reg((m68k_register_t)(M68K_REG_A0 + i), s->reg[8 + i]);
-    m68k_set_reg(M68K_REG_A7, (s->reg[17] & 0x2000) ? s->reg[16] : s->reg[15]);
-    m68k_set_reg(M68K_REG_PC, s->reg[18] - 4);
+        m68k_set_reg((m68k_register_t)(M68K_REG_A0 + i), s->reg[R_A0 + i]);
+    m68k_set_reg(M68K_REG_A7, (s->reg[R_SR] & 0x2000) ? s->reg[R_SSP] : s->reg[R_USP]);
+    m68k_set_reg(M68K_REG_PC, s->reg[R_PC] - 4);
 }
 
-static int run_one(const state_t *init, uint64_t bus[BW_NREGIONS][2])
+static int run_one(const sst_state_t *init, uint64_t bus[BW_NREGIONS][2])
 {
     memset(made, 0, sizeof made);
     CPU_STOPPED = 0;                    /* a STOP before must not hold this one */
@@ -158,86 +115,45 @@ static int run_one(const state_t *init, uint64_t bus[BW_NREGIONS][2])
 
 static struct { long tests, exact, mech, bus, count, length, skipped; } tot;
 
+/* the reference's bus cycles of a test by region and kind */
+static void count_tx(void *ctx, unsigned kind, uint32_t address)
+{
+    uint64_t (*ref_bus)[2] = ctx;
+    if (kind == SST_READ || kind == SST_WRITE)
+        ref_bus[buswait_page[(address & 0xFFFFFF) >> 8]][kind == SST_WRITE]++;
+}
+
 static void file(const char *path, const buswait_cfg_t *zero, const buswait_cfg_t *ws)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        fprintf(stderr, "busvectors: cannot open %s\n", path);
+    size_t n;
+    uint8_t *buf = sst_slurp("busvectors", path, &n);
+    sst_reader_t r;
+    uint32_t count;
+    if (!buf || sst_open(&r, "busvectors", path, buf, n, &count))
         exit(1);
-    }
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    uint8_t *buf = malloc((size_t)n);
-    if (!buf || fread(buf, 1, (size_t)n, f) != (size_t)n) {
-        fprintf(stderr, "busvectors: cannot read %s\n", path);
-        exit(1);
-    }
-    fclose(f);
-    rd_t r = {buf, buf + n, 0};
-    if (u32(&r) != 0x1A3F5D71u) {
-        fprintf(stderr, "busvectors: %s: not a vector file (magic)\n", path);
-        exit(1);
-    }
-    uint32_t count = u32(&r);
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
     /* TAS and TRAPV: the reference's own caveats; STOP: the core then waits
      * for an interrupt, and its length is the rest of the slice */
     int skip_file = !strncmp(base, "TAS.", 4) || !strncmp(base, "TRAPV.", 6) || !strncmp(base, "STOP.", 5);
     long t = 0, exact = 0, mech = 0, busd = 0, cntd = 0, lend = 0, skipped = 0;
-    for (uint32_t k = 0; k < count && !r.bad; k++) {
-        const uint8_t *rec = r.p;
-        uint32_t size = u32(&r);
-        if (u32(&r) != 0xABC12367u || size < 8 || (size_t)(r.end - rec) < size) {
-            r.bad = 1;
-            break;
-        }
-        rd_t t_r = {r.p, rec + size, 0};
-        u32(&t_r);                                 /* name: size, magic, length, text */
-        u32(&t_r);
-        uint32_t len = u32(&t_r);
-        const char *name = (const char *)t_r.p;
-        t_r.p += len;
-        state_t init, fin;
-        state(&t_r, &init);
-        state(&t_r, &fin);
-        u32(&t_r);
-        if (u32(&t_r) != 0x456789ABu)
-            t_r.bad = 1;
-        uint32_t ref_len = u32(&t_r), ntx = u32(&t_r);
+    for (uint32_t k = 0; k < count; k++) {
+        sst_test_t test;
         uint64_t ref_bus[BW_NREGIONS][2] = {{0}};
-        int skip = skip_file;
-        for (uint32_t i = 0; i < ntx && !t_r.bad; i++) {
-            uint8_t kind = u8(&t_r);
-            u32(&t_r);                             /* cycles */
-            if (kind == 0)
-                continue;
-            u32(&t_r);                             /* function code */
-            uint32_t addr = u32(&t_r);
-            u32(&t_r);
-            u32(&t_r);
-            u32(&t_r);
-            if (kind >= 3)
-                skip = 1;                          /* TAS, address errors */
-            else
-                ref_bus[buswait_page[(addr & 0xFFFFFF) >> 8]][kind == 1]++;
-        }
-        r.p = rec + size;
-        if (t_r.bad) {
-            r.bad = 1;
-            break;
-        }
-        if (skip) {
+        if (sst_read_test(&r, &test, count_tx, ref_bus))
+            exit(1);
+        if (skip_file || test.tas || test.addr_error) {
             skipped++;
             continue;
         }
+        const char *name = test.name;
+        uint32_t ref_len = test.cycles;
         t++;
         uint64_t b0[BW_NREGIONS][2], b1[BW_NREGIONS][2];
         buswait_cfg = *zero;
-        int c0 = run_one(&init, b0);
+        int c0 = run_one(&test.init, b0);
         buswait_cfg = *ws;
-        int c1 = run_one(&init, b1);
+        int c1 = run_one(&test.init, b1);
         uint64_t by_core = 0, by_ref = 0, n_core[2] = {0, 0}, n_ref[2] = {0, 0};
         int same_bus = 1;
         for (int g = 0; g < BW_NREGIONS; g++)
@@ -263,10 +179,8 @@ static void file(const char *path, const buswait_cfg_t *zero, const buswait_cfg_
             printf("busvectors: %s: +%d cycles, the reference's bus cycles say +%llu\n", name, c1 - c0,
                    (unsigned long long)by_ref);
     }
-    if (r.bad) {
-        fprintf(stderr, "busvectors: %s: truncated or corrupt record\n", path);
+    if (sst_close(&r))
         exit(1);
-    }
     printf("busvectors-file %s tests=%ld exact=%ld mechanism_failed=%ld bus_differs=%ld count_differs=%ld "
            "length_differs=%ld skipped=%ld\n", base, t, exact, mech, busd, cntd, lend, skipped);
     tot.tests += t;
