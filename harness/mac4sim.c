@@ -9,6 +9,7 @@
 #include "script.h"
 #include "profile.h"
 #include "serial_host.h"
+#include "gdbstub.h"
 
 static sim_t card;
 
@@ -32,6 +33,10 @@ static void usage(FILE *f)
             "                       'serial-pty /dev/pts/N'); after the script the card\n"
             "                       keeps running in real time until the pty is closed\n"
             "  --serve-seconds N    with --serial-pty: stop serving after N seconds\n"
+            "  --gdb PORT           wait for gdb on 127.0.0.1:PORT (0: any free port; prints\n"
+            "                       'gdb-port N') with the CPU stopped before its first\n"
+            "                       instruction; after the script the card runs on in real\n"
+            "                       time until gdb detaches (docs/debugging.md)\n"
             "  --help               this text\n"
             "Exit status: 0 ok, 1 usage or script error, 3 emulator faults seen.\n");
 }
@@ -45,6 +50,7 @@ int main(int argc, char **argv)
     int allow_faults = 0, timestamps = 0, level = 3, j11 = 1;
     int serial_pty = 0;          /* --serial-pty, --serve-seconds: docs/serial.md */
     double serve_seconds = 0;
+    int gdb_port = -1;           /* --gdb: docs/debugging.md */
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *val = (i + 1 < argc) ? argv[i + 1] : NULL;
@@ -72,6 +78,15 @@ int main(int argc, char **argv)
             allow_faults = 1;
         } else if (!strcmp(a, "--serial-pty")) {
             serial_pty = 1;
+        } else if (!strcmp(a, "--gdb") && val) {
+            char *end;
+            long p = strtol(val, &end, 10);
+            if (end == val || *end || p < 0 || p > 65535 || mac4sim_native_cpu) {
+                fprintf(stderr, "mac4sim: bad --gdb '%s' (a port 0..65535; the 68000 build only)\n", val);
+                return 1;
+            }
+            gdb_port = (int)p;
+            i++;
         } else if (!strcmp(a, "--serve-seconds") && val) {
             char *end;
             serve_seconds = strtod(val, &end);
@@ -133,6 +148,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "mac4sim: cannot open script '%s'\n", script);
         return 1;
     }
+    if (gdb_port >= 0 && gdbstub_attach(&card, gdb_port))
+        return 1;
     script_t sc = {script, 0, 0};
     int errors = serial_host_script_run(&sc, &card, in);
     if (in != stdin)
@@ -140,6 +157,7 @@ int main(int argc, char **argv)
     if (errors)
         return 1;
     serial_host_serve(&card, serve_seconds);
+    gdbstub_serve_after_script(&card);   /* while gdb is attached */
     if (card.faults && !allow_faults)
         return 3;
     return 0;

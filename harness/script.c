@@ -263,7 +263,7 @@ int script_line(script_t *sc, sim_t *s, char *line)
         return 1;
     /* command families that live beside their models */
     static int (*const ext[])(script_t *, sim_t *, char **, int) = {script_serial, script_plant,
-                                                                      script_perf};
+                                                                      script_perf, script_bench};
     for (unsigned i = 0; i < sizeof ext / sizeof ext[0]; i++) {
         int r = ext[i](sc, s, tok, n);
         if (r != SCRIPT_NOT_MINE)

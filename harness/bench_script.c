@@ -1,0 +1,26 @@
+/*
+ * bench_script.c - host-script commands of the workbench (docs/debugging.md):
+ *   gdb PORT                  wait for gdb on 127.0.0.1:PORT, the CPU stopped
+ */
+#include <string.h>
+#include "script.h"
+#include "gdbstub.h"
+#include "cpu.h"
+
+/* The 68000 build only: the native firmware has no instructions to stop at. */
+const cpu_t *mac4sim_native_cpu(void) __attribute__((weak));
+
+int script_bench(script_t *sc, sim_t *s, char **tok, int n)
+{
+    long long v;
+    if (!strcmp(tok[0], "gdb")) {
+        if (n != 2 || script_parse_num(tok[1], &v) || v < 0 || v > 65535)
+            return script_err(sc, "usage: %s PORT (0..65535, 0: any free port)", "gdb");
+        if (mac4sim_native_cpu)
+            return script_err(sc, "%s: the native build has no 68000 to debug", "gdb");
+        if (gdbstub_attach(s, (int)v))
+            return script_err(sc, "%s: no debugger attached", "gdb");
+        return 0;
+    }
+    return SCRIPT_NOT_MINE;
+}
