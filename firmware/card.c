@@ -591,9 +591,13 @@ static inline __attribute__((always_inline)) void stp_tick_axis(unsigned n, unsi
         int32_t old_i = x->sp_i;
         uint16_t old_f = x->sp_f;
         if (x->braking) {                        /* a stop that cannot wait for the next SP */
-            int32_t v = brake_slower(x);
-            if (v <= x->br_ssf && v >= -x->br_ssf)
-                v = 0;                           /* from <ssf> or less a stepper stops at once (5.14) */
+            int32_t v = brake_slower(x), ssf = x->br_ssf;
+            if (v <= ssf && v >= -ssf) {
+                /* from <ssf> or less a stepper stops at once (5.14); a ramp step
+                 * that would jump from above it to below it ends at <ssf> first */
+                int32_t w = x->br_v;
+                v = w > ssf ? ssf : w < -ssf ? -ssf : 0;
+            }
             brake_step(x, v);
             int32_t i;
             uint16_t f;

@@ -253,6 +253,8 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
      * mask (motion_after_command); until then they read as stale */
     x->q_gen = (uint16_t)~par_gen[n];
     motion_vq_due |= (uint8_t)(1u << n);
+    if (mode == M_RESET)
+        motion_emergency(n, STOP_DISABLE);       /* 4.8.2: the <ed> ramp from the next tick on */
 }
 
 void motion_after_command_do(void)
