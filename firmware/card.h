@@ -56,6 +56,10 @@ typedef struct {
     uint16_t stop_ticks;    /* supervised ticks since the stop began */
     uint16_t stop_limit;    /* time bound in ticks, set when the setpoint ramp ends */
     int32_t stop_fmax;      /* |following error| beyond this: the loop runs away */
+    int32_t stop_f0;        /* |following error| at the start of the stop */
+    int32_t stop_flast;     /* ... at the last supervision */
+    int32_t stop_vlast;     /* |RAV| at the last supervision */
+    uint8_t stop_grow;      /* supervised ticks in a row it grew beyond stop_f0, the speed not falling */
     uint8_t idx_seen;   /* index latched during a search */
     uint16_t trt_count;
     uint16_t trt_periods;
@@ -106,10 +110,12 @@ typedef struct {
  * mechanics at rest, |RAV| <= STOP_REST_VEL for STOP_REST_TICKS ticks in a
  * row, at most 2 x the setpoint ramp's ticks + STOP_SETTLE_TICKS after the
  * stop began; /EN opens at once if |RFE| exceeds its value at the start of
- * the stop by more than <mf> (docs/interpretations.md) */
+ * the stop by more than <mf>/2, or grows beyond it for STOP_GROW_TICKS ticks
+ * in a row while the measured speed does not fall (docs/interpretations.md) */
 #define STOP_REST_VEL 1
 #define STOP_REST_TICKS 4
 #define STOP_SETTLE_TICKS 40
+#define STOP_GROW_TICKS 4
 
 #define NO_MODE 0xFF
 

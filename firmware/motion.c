@@ -276,8 +276,11 @@ void motion_emergency(unsigned n, uint8_t then)
     }
     if (x->stop_then == STOP_NONE) {
         /* the runaway guard from the following error of the moment (stop_watch) */
-        int32_t e = x->ferr < 0 ? -x->ferr : x->ferr;
-        x->stop_fmax = e > INT32_MAX - x->mf ? INT32_MAX : e + x->mf;
+        int32_t e = x->ferr < 0 ? -x->ferr : x->ferr, m = x->mf / 2;
+        x->stop_fmax = e > INT32_MAX - m ? INT32_MAX : e + m;
+        x->stop_f0 = x->stop_flast = e;
+        x->stop_vlast = 0;
+        x->stop_grow = 0;
         x->stop_ticks = 0;
         x->stop_rest = 0;
         x->stop_limit = 0;
@@ -474,15 +477,25 @@ static void stop_done(unsigned n)
  * The guards against a loop that cannot stop them (6.3.9: a reversed or
  * frozen encoder, a motor that cannot follow <ed>): /EN opens at once, with
  * ferr_f and 163, when the following error grows beyond its value at the
- * start of the stop plus <mf>, when the axis measures no motion with more
- * than <mf> still to go, or when twice the ticks of the setpoint's ramp plus
+ * start of the stop plus <mf>/2, or beyond that value in STOP_GROW_TICKS
+ * ticks in a row without the mechanics slowing down, when the axis measures no motion with more than <mf>
+ * still to go, or when twice the ticks of the setpoint's ramp plus
  * STOP_SETTLE_TICKS have passed.  1: the stop has ended. */
 static int stop_watch(axis_t *x, unsigned n)
 {
     if (x->stop_ticks < UINT16_MAX)
         x->stop_ticks++;
-    int32_t e = x->ferr < 0 ? -x->ferr : x->ferr;
-    int over = e > x->stop_fmax;
+    int32_t e = x->ferr < 0 ? -x->ferr : x->ferr, av = x->vel < 0 ? -x->vel : x->vel;
+    /* growing instead of shrinking: beyond its start, tick after tick, and
+     * the mechanics not slowing down (an overshoot slows down; a loop with
+     * its sign reversed speeds up or runs at its limit) */
+    if (e > x->stop_f0 && e > x->stop_flast + STOP_REST_VEL && av + STOP_REST_VEL >= x->stop_vlast)
+        x->stop_grow++;
+    else
+        x->stop_grow = 0;
+    x->stop_flast = e;
+    x->stop_vlast = av;
+    int over = e > x->stop_fmax || x->stop_grow >= STOP_GROW_TICKS;
     if (!over && x->braking)
         return 0;                                /* the setpoint's ramp runs */
     if (!over) {

@@ -271,3 +271,184 @@ def test_stop_sweep(tmp_path, card, mode, cause):
         assert dist <= bound, (dist, bound)
     print("STOP %s %s %s distance %.0f bound %.0f lag %d en-off-tick %s" % (
         card, mode, cause.name, dist, bound, lag, off_at))
+
+
+# ---- the runaway guards (6.3.9: a reversed or frozen encoder; a motor that cannot follow <ed>) ----
+K = 2                                                 # P controller: DAC = K x following error
+P_ONLY = ["send 0 WGA %d" % (4 * K), "send 0 WZE 0", "send 0 WPO 0", "send 0 WKI 0"]
+MF = 500
+STOP_GROW_TICKS, STOP_SETTLE_TICKS = 4, 40            # firmware/card.h
+
+
+def guard_run(tmp_path, name, before, inject, ms=4000):
+    path = str(tmp_path / (name + ".csv"))
+    lines = [BOOT.strip()] + before + ["trace 0 %s tick" % path] + inject + [
+        "run %d" % ms, "trace off", "plant 0", "send 0 RBS", "send 0 ME", "run 5"]
+    r = sim("\n".join(lines) + "\n", "inc")
+    assert r.rc == 0, r.stderr
+    rows = trace_rows(path)
+    off = next(k for k, t in enumerate(rows) if t["en"] == 0)
+    rbs, me = r.resps()[-2:]
+    assert rbs[2] & 0xFF == MODE["disable"] and rbs[2] & ub("ferr_f"), hex(rbs[2])
+    assert me[1] == 163 and me[2] & ub("ferr_f"), me
+    return rows, off
+
+
+def over_mf(rows):
+    """The first trace row whose DAC shows |RFE| > <mf>: it was computed by the tick before."""
+    return next(k for k, t in enumerate(rows) if abs(t["dac"]) > K * MF)
+
+
+def test_runaway_guard_reversed_wiring(tmp_path):
+    """The motor's leads swapped (USR missing): the loop drives away from the
+    setpoint.  Following error, and the braking loop runs away too: /EN opens
+    STOP_GROW_TICKS ticks after the stop began, not when the following error
+    has grown by <mf>/2 more, nor after the time bound."""
+    rows, off = guard_run(tmp_path, "reversed", ["plant 0 wiring reversed"] + P_ONLY + [
+        "send 0 WMF %d" % MF, "send 0 INIT", "send 0 ME", "send 0 E", "run 20"],
+        ["send 0 WVT 100", "send 0 MS", "send 0 E"])
+    k = over_mf(rows)
+    assert rows[k]["velocity"] < 0                    # the wrong way
+    assert off - k <= 2 + STOP_GROW_TICKS, (k, off)   # the stop's first tick, then the guard
+    assert abs(rows[-1]["velocity"]) < 1                # coasted to rest
+    print("GUARD reversed: /EN open %d ticks after RFE > <mf>, at %.0f Inc; mechanics at rest at %.0f Inc" % (
+        off - k, rows[off]["position"], rows[-1]["position"]))
+
+
+def test_runaway_guard_frozen_encoder(tmp_path):
+    """The counter stops mid-move: the axis measures no motion with more
+    than <mf> to go: /EN opens in the tick after the stop began."""
+    rows, off = guard_run(tmp_path, "frozen", P_ONLY + [
+        "send 0 WMF %d" % MF, "send 0 INIT", "send 0 ME", "send 0 E", "run 20", "send 0 WVT 40", "send 0 MS",
+        "send 0 E", "run 300"], ["fault 0 encoder frozen"])
+    assert rows[0]["en"] == 1 and rows[0]["velocity"] > 3500
+    k = over_mf(rows)
+    assert off - k <= 3, (k, off)
+    assert abs(rows[-1]["velocity"]) < 1
+    print("GUARD frozen: /EN open %d ticks after RFE > <mf>, at %.0f Inc (frozen at %.0f); at rest at %.0f Inc" % (
+        off - k, rows[off]["position"], rows[0]["position"], rows[-1]["position"]))
+
+
+def test_runaway_guard_motor_cannot_follow_ed(tmp_path):
+    """A current-controlled drive whose current limit decelerates the load
+    at 16 000 Inc/s^2, where <ed> asks for 5e7: the setpoint stands after a
+    tick, the motor overshoots it; /EN opens once the following error has
+    grown beyond its value at the stop for STOP_GROW_TICKS ticks without the
+    mechanics slowing down measurably, within the time bound in any case."""
+    rows, off = guard_run(tmp_path, "slow", ["plant 0 motor mode current imax 2 inertia 5e-4",
+                                             "send 0 WMF %d" % MF, "send 0 INIT", "send 0 ME", "send 0 E", "run 20",
+                                             "send 0 WVT 40", "send 0 WPA 1", "send 0 MS", "send 0 E", "run 3000"],
+                          ["send 0 MRE", "send 0 E"], ms=8000)
+    assert rows[0]["velocity"] > 3500 and rows[0]["en"] == 1
+    ramp_ticks = 1                                    # 40 Inc/SP with <ed> 5000: one tick
+    assert off <= 2 * ramp_ticks + STOP_SETTLE_TICKS + 3, off
+    assert rows[off]["velocity"] > 1000                # it had not stopped: the guard, not the rest test
+    # (after /EN the load coasts on its own friction: far, it has no brake)
+    print("GUARD slow motor: /EN open %d ticks after MRE at %.0f Inc/s, %.0f Inc after it; +%.0f Inc after 8 s" % (
+        off, rows[off]["velocity"], rows[off]["position"] - rows[0]["position"],
+        rows[-1]["position"] - rows[0]["position"]))
+
+
+# ---- errors and reads (6.3), m_rdy (7.1.2), targets (6.3.3), LEDs (2.5.3), ROUT (table 6.2) ----
+def cmds(lines, card="inc"):
+    r = sim(BOOT + "\n".join(lines) + "\n", card)
+    assert r.rc == 0, r.stderr
+    return r
+
+
+FAULTS = {   # a cause raised by the card itself, on a moving axis 0: (lines, code, bits, card-wide)
+    "drive": (["fault 0 drive on", "run 200"], 163, ("dr_f",), False),
+    "ferr": (["plant 0 motor coulomb 100", "run 800"], 163, ("ferr_f",), False),
+    "watchdog": (["send 0 WWD 30", "run 300"], 164, (), True),
+    "estop": (["estop on", "run 50"], 165, (), True),
+}
+
+
+@pytest.mark.parametrize("card", ("inc", "ssi", "stp"))
+@pytest.mark.parametrize("fault", sorted(FAULTS))
+def test_reads_run_and_c_right_after_the_error_acknowledges_it(card, fault):
+    """6.3: reads are always executed while the error waits, the status read
+    shows the error bits; the first other command - here C - is answered with
+    the error code and, being C, acknowledges it: one C is enough, the next
+    command runs."""
+    lines, ecode, bits, cardwide = FAULTS[fault]
+    if card == "stp" and fault == "ferr":
+        lines = ["stepper 0 ssf 50", "run 10"]   # not used: the STP's stall is the fault matrix's
+        pytest.skip("STP: open loop, its following error rows are in the fault matrix")
+    r = cmds(pre(card) + ["send 0 INIT", "send 0 ME", "send 0 E", "run 20"] + m_speed(card, V[card] // 2) +
+             ["run 300"] + lines + (["estop off"] if fault == "estop" else []) +
+             ["send 0 RBS", "send 0 RCP", "send 0 RAS", "send 1 RBS", "send 0 C", "send 0 RBS", "send 0 RAS",
+              "send 0 ME", "run 5"], card)
+    got = r.resps()[-8:]
+    assert [c for _, c, _ in got] == [code("RBS"), code("RCP"), code("RAS"), code("RBS"), ecode, code("RBS"),
+                                      code("RAS"), code("ME")], got
+    for b in bits:
+        assert got[0][2] & ub(b) and not got[5][2] & ub(b)      # shown by the read, cleared by the one C
+    if cardwide:
+        ob = {164: "watch_f", 165: "h_stop"}[ecode]
+        assert got[2][2] & (1 << BIT["overall"][ob]) and not got[6][2] & (1 << BIT["overall"][ob])
+        assert got[4][2] & (1 << BIT["overall"][ob])           # the report carries the overall status
+    assert got[0][2] & 0xFF == MODE["disable"]
+
+
+@pytest.mark.parametrize("card", ("inc", "ssi", "stp"))
+def test_m_rdy_from_the_boot_until_mr(card):
+    # after MR the card takes no command: its published system status (DPA_SSTAT) shows it
+    r = cmds(["send 0 RSS", "send 3 RSS", "run 40", "peek32 0x3C04", "jumper j11 in", "send 1 MR", "run 50", "peek32 0x3C04"],
+             card)
+    ss = [p for _, c, p in r.resps() if c == code("RSS")]
+    assert len(ss) == 2 and all(p & sb("m_rdy") for p in ss), ss   # command operational
+    pub = [int(l.split()[2], 16) for l in r.grep(r"^peek32 0x3C04 ")]
+    assert pub[0] & sb("m_rdy") and not pub[1] & sb("m_rdy"), pub   # MR accepted: no more commands
+
+
+@pytest.mark.parametrize("card", ("inc", "ssi", "stp"))
+def test_tracking_targets_beyond_the_software_limits_are_refused(card):
+    """6.3.3: WAT beyond <lp>/<ln> is answered 162 and ignored; the axis
+    stays within its limits."""
+    lim = 200 if card == "stp" else 2000
+    r = cmds(pre(card) + ["send 0 UWLP %d" % lim, "send 0 UWLN %d" % -lim, "send 0 INIT", "send 0 ME", "send 0 E",
+                          "run 20", "send 0 WAT 100", "send 0 PT", "send 0 E", "run 300", "send 0 WAT %d" % (lim + 1),
+                          "send 0 C", "send 0 WAT %d" % (-lim - 1), "send 0 C", "send 0 RAT", "send 0 WAT %d" % lim,
+                          "run 1500", "send 0 RCP", "send 0 RBS", "run 5"], card)
+    got = [(c, p) for _, c, p in r.resps()]
+    assert [c for c, _ in got[-8:]] == [162, 4, 162, 4, code("RAT"), code("WAT"), code("RCP"), code("RBS")], got
+    assert got[-4][1] == 100                                     # the refused targets were ignored
+    pos = got[-2][1] - (1 << 32) if got[-2][1] & 0x80000000 else got[-2][1]
+    assert lim - 20 <= pos <= lim and got[-1][1] & 0xFF == MODE["position tracking"]
+    assert not got[-1][1] & (ub("swl_p") | ub("logo_f"))
+
+
+def leds_of(line):
+    """`leds 0xWORD stop=S 0=D,LP 1=- ...` -> {axis: set of names}."""
+    out = {}
+    for f in line.split()[3:]:
+        a, names = f.split("=")
+        out[int(a)] = set() if names == "-" else set(names.split(","))
+    return out
+
+
+@pytest.mark.parametrize("card", ("inc", "ssi", "stp"))
+def test_leds_by_name(card):
+    """2.5.3: the limit and reference LEDs light at 0 V whatever the
+    configuration; the drive-fault LED F whenever the card recognises the
+    signal as on, with either polarity (UWSO); D disabled, P pos_end."""
+    r = cmds(["switch 0 lp 100", "switch 1 ln -100 high", "switch 2 ref -50 100", "switch 3 df high",
+              "plant 0 pos 200", "send 0 UWPS 0", "run 20", "leds", "fault 0 drive on", "send 3 UWSO 2",
+              "send 3 INIT", "run 40", "leds", "fault 3 drive on", "run 40", "leds"] + pre(card), card)
+    first, _, third = [leds_of(l) for l in r.grep(r"^leds ")]
+    assert first[0] == {"D", "LP"}                               # at 0 V, though configured off (UWPS 0)
+    assert first[1] == {"D", "LN"}                               # high active, off: the line is at 0 V
+    assert first[2] == {"D", "REF"} and first[3] == {"D", "F"}   # df high active, no fault: 0 V, not "on"
+    assert "F" in third[0]                                       # low active (default): on at 0 V
+    assert "F" in third[3] and int(r.grep(r"^leds ")[2].split()[1], 16) & (0x4 << 12)
+    assert int(r.grep(r"^leds ")[0].split()[1], 16) == int(r.grep(r"^leds ")[0].split()[1], 16)
+
+
+def test_rout_and_rps_in_steps_per_sp_on_the_stp():
+    """Table 6.2: ROUT and RPS in Steps/SP (32 ms): 2000 Hz are 64."""
+    r = cmds(["send 0 INIT", "send 0 ME", "send 0 E", "run 20"] + m_speed("stp", 2000) +
+             ["run 1500", "send 0 ROUT", "send 0 RPS", "send 0 RAV", "run 5"], "stp")
+    got = {c: p for _, c, p in r.resps()[-3:]}
+    assert got[code("ROUT")] == 64 and got[code("RPS")] == 64
+    assert 15 <= got[code("RAV")] <= 17                          # Steps per 8 ms sampling period
