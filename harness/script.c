@@ -228,18 +228,13 @@ int script_line(script_t *sc, sim_t *s, char *line)
          * from the input levels (lit at 0 V: AX_IN bit set), as in hardware */
         char buf[160];
         int k = snprintf(buf, sizeof buf, "leds 0x%04X stop=%d", s->leds, s->estop);
-        static const struct { const char *name; uint16_t reg, in; } led[] = {
-            {"D", SYS_LED_D, 0}, {"P", SYS_LED_P, 0}, {"F", SYS_LED_F, 0},
-            {"LP", 0, AX_IN_IESP}, {"LN", 0, AX_IN_IESN}, {"REF", 0, AX_IN_RS},
-        };
         for (int a = 0; a < 4; a++) {
-            uint16_t reg = (uint16_t)(s->leds >> SYS_LED_SHIFT(a));
-            uint16_t in = plant_inputs_word(s, a, sim_now(s));
+            unsigned lit = axisboard_leds(s, a);
             k += snprintf(buf + k, sizeof buf - (size_t)k, " %d=", a);
             int any = 0;
-            for (unsigned i = 0; i < sizeof led / sizeof led[0]; i++)
-                if ((reg & led[i].reg) || (in & led[i].in)) {
-                    k += snprintf(buf + k, sizeof buf - (size_t)k, "%s%s", any ? "," : "", led[i].name);
+            for (unsigned i = 0; i < AXIS_NLEDS; i++)
+                if (lit & (1u << i)) {
+                    k += snprintf(buf + k, sizeof buf - (size_t)k, "%s%s", any ? "," : "", axis_leds[i].name);
                     any = 1;
                 }
             if (!any)
