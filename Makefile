@@ -39,7 +39,7 @@ MUSOBJ   := $(B)/musashi/m68kcpu.o $(B)/musashi/m68kops.o $(B)/musashi/m68kdasm.
 MUSCFLAGS := -std=gnu99 -O2 -g -w -I$(MUS) -Iharness -Ihal -DMUSASHI_CNF='"musashi_cnf.h"'
 
 # the workbench (docs/debugging.md): gdb stub, waveforms, front panel
-BENCH_SRCS := harness/gdbstub.c harness/bench_script.c
+BENCH_SRCS := harness/gdbstub.c harness/bench_script.c harness/panel.c
 HARNESS_CORE := harness/sim.c harness/bus.c harness/periph.c harness/axisboard.c harness/host.c harness/run.c \
                 harness/plant.c harness/plant_vme.c harness/vcd.c
 HARNESS_SRCS := $(HARNESS_CORE) \

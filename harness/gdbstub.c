@@ -693,17 +693,3 @@ int gdbstub_attach(sim_t *s, int port)
     next_poll = sim_now(s) + MS_TO_CYC(1);
     return 0;
 }
-
-void gdbstub_serve_after_script(sim_t *s)
-{
-    double w0 = wall_now() - stopped_wall;
-    cyc_t c0 = sim_now(s);
-    while (cfd >= 0) {
-        sim_run(s, MS_TO_CYC(1));
-        double ahead = (double)(sim_now(s) - c0) / (double)MAC4_CPU_HZ - (wall_now() - stopped_wall - w0);
-        if (ahead > 0) {
-            struct timespec d = {(time_t)ahead, (long)((ahead - (double)(time_t)ahead) * 1e9)};
-            nanosleep(&d, NULL);
-        }
-    }
-}

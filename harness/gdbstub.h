@@ -30,9 +30,8 @@ void gdbstub_resume_in_slice(void);   /* before m68k_execute goes on with the sa
 extern int mac4_gdb_watching;
 void gdbstub_access(unsigned addr, int size, int write);
 
-/* After the script: while gdb is attached the card runs on, paced to the
- * wall clock, until gdb detaches or the connection closes. */
-void gdbstub_serve_after_script(sim_t *s);
+/* After the script the card runs on while gdb is attached (panel.c
+ * bench_serve, paced to the wall clock) until gdb detaches. */
 int gdbstub_attached(void);
 /* Wall-clock seconds spent stopped so far (pacing loops subtract them). */
 double gdbstub_stopped_seconds(void);

@@ -10,6 +10,7 @@
 #include "profile.h"
 #include "serial_host.h"
 #include "gdbstub.h"
+#include "panel.h"
 
 static sim_t card;
 
@@ -37,6 +38,10 @@ static void usage(FILE *f)
             "                       'gdb-port N') with the CPU stopped before its first\n"
             "                       instruction; after the script the card runs on in real\n"
             "                       time until gdb detaches (docs/debugging.md)\n"
+            "  --panel PORT         the front panel as a web page on 127.0.0.1:PORT (0: any\n"
+            "                       free port; prints 'panel-port N'); after the script the\n"
+            "                       card runs on in real time (docs/debugging.md)\n"
+            "                       --serve-seconds N bounds that too\n"
             "  --help               this text\n"
             "Exit status: 0 ok, 1 usage or script error, 3 emulator faults seen.\n");
 }
@@ -51,6 +56,7 @@ int main(int argc, char **argv)
     int serial_pty = 0;          /* --serial-pty, --serve-seconds: docs/serial.md */
     double serve_seconds = 0;
     int gdb_port = -1;           /* --gdb: docs/debugging.md */
+    int panel_port = -1;         /* --panel: docs/debugging.md */
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *val = (i + 1 < argc) ? argv[i + 1] : NULL;
@@ -86,6 +92,15 @@ int main(int argc, char **argv)
                 return 1;
             }
             gdb_port = (int)p;
+            i++;
+        } else if (!strcmp(a, "--panel") && val) {
+            char *end;
+            long p = strtol(val, &end, 10);
+            if (end == val || *end || p < 0 || p > 65535) {
+                fprintf(stderr, "mac4sim: bad --panel '%s' (a port 0..65535)\n", val);
+                return 1;
+            }
+            panel_port = (int)p;
             i++;
         } else if (!strcmp(a, "--serve-seconds") && val) {
             char *end;
@@ -141,7 +156,17 @@ int main(int argc, char **argv)
     }
     if (serial_host_init(&card, serial_pty))
         return 1;
-    sim_attach_cpu(&card, serial_host_cpu(mac4sim_native_cpu ? mac4sim_native_cpu() : &cpu_m68k));
+    const cpu_t *cpu = serial_host_cpu(mac4sim_native_cpu ? mac4sim_native_cpu() : &cpu_m68k);
+    if (panel_port >= 0) {
+        char cj[4200];
+        char self[2048];
+        snprintf(self, sizeof self, "%s", argv[0]);
+        snprintf(cj, sizeof cj, "%s/commands.json", dirname(self));
+        if (panel_listen(&card, panel_port, cj))
+            return 1;
+        cpu = panel_cpu(cpu);
+    }
+    sim_attach_cpu(&card, cpu);
 
     FILE *in = strcmp(script, "-") ? fopen(script, "r") : stdin;
     if (!in) {
@@ -157,7 +182,7 @@ int main(int argc, char **argv)
     if (errors)
         return 1;
     serial_host_serve(&card, serve_seconds);
-    gdbstub_serve_after_script(&card);   /* while gdb is attached */
+    bench_serve(&card, serve_seconds);   /* while the panel is open or gdb attached */
     if (card.faults && !allow_faults)
         return 3;
     return 0;

@@ -18,6 +18,8 @@ static void display_show(sim_t *s, uint16_t v)
         return;
     s->display = v;
     sim_printf(s, "display %X%s\n", v & 0xF, (v & SYS_DISPLAY_DP) ? "." : "");
+    if (s->on_display)
+        s->on_display(s);
 }
 
 uint32_t sys_rd(sim_t *s, uint32_t off, int size)
