@@ -6,9 +6,11 @@ still while the CPU is stopped; and a run with stops equal, line for line,
 to the run without."""
 import os
 import re
+import select
 import shutil
 import subprocess
 import tempfile
+import time
 
 import pytest
 
@@ -169,3 +171,97 @@ def test_stops_do_not_change_the_run():
     assert "cmd_execute" in g, g
     assert lines[0].startswith("gdb-port ")
     assert lines[1:] == ref.stdout.splitlines()
+
+
+class MI:
+    """gdb-multiarch over its machine interface, for what batch mode cannot
+    do: interrupt a running target (Ctrl-C, -exec-interrupt)."""
+
+    def __init__(self, card):
+        self.p = subprocess.Popen([GDB, "--interpreter=mi2", "-nx", "-q", elf(card)], stdin=subprocess.PIPE,
+                                  stdout=subprocess.PIPE, text=True)
+        self.buf = ""
+
+    def send(self, cmd):
+        self.p.stdin.write(cmd + "\n")
+        self.p.stdin.flush()
+
+    def until(self, pat, timeout=20):
+        end, seen = time.monotonic() + timeout, []
+        while time.monotonic() < end:
+            while "\n" in self.buf:
+                line, self.buf = self.buf.split("\n", 1)
+                seen.append(line)
+                if pat in line:
+                    return seen
+            if select.select([self.p.stdout], [], [], 0.1)[0]:
+                self.buf += os.read(self.p.stdout.fileno(), 65536).decode()
+        raise AssertionError("no %r from gdb: %s" % (pat, "\n".join(seen[-10:])))
+
+    def close(self):
+        if self.p.poll() is None:
+            self.p.kill()
+        self.p.wait(timeout=10)
+
+
+def test_ctrl_c_stops_a_running_card():
+    sim = subprocess.Popen([SIM, "--card", "inc", "--gdb", "0", "--serve-seconds", "30", "--script", "-"],
+                           stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    sim.stdin.close()                                    # an empty script: the card runs on for gdb
+    mi = MI("inc")
+    try:
+        port = re.match(r"gdb-port (\d+)$", sim.stdout.readline().strip()).group(1)
+        mi.send("-gdb-set mi-async on")
+        mi.send("-target-select remote 127.0.0.1:%s" % port)
+        mi.until("^connected")
+        mi.send("-exec-continue")
+        mi.until("*running")
+        time.sleep(1.2)                                   # paced to the wall clock: the card boots meanwhile
+        mi.send("-exec-interrupt")
+        stop = mi.until("*stopped")[-1]
+        assert 'signal-name="SIGINT"' in stop, stop
+        mi.send('-interpreter-exec console "monitor time"')
+        t = float(re.search(r"time ([0-9.]+) ms", "".join(mi.until("^done"))).group(1))
+        assert 900 < t < 5000, t                          # about the wall time it ran
+        # a read watchpoint on the DPRAM: the main loop polls the command queue's write index
+        mi.send('-break-watch -r "*(unsigned long *)0x%x"' % (0x4700 + 4))
+        mi.until("^done")
+        mi.send("-exec-continue")
+        stop = mi.until("*stopped")[-1]
+        assert 'reason="read-watchpoint-trigger"' in stop, stop
+        mi.send("-target-detach")
+        mi.until("^done")
+        mi.send("-gdb-exit")
+    finally:
+        mi.close()
+        sim.kill()
+        sim.wait(timeout=10)
+
+
+def test_script_command_gdb():
+    """`gdb PORT` in a script stops the card there, at that emulated time."""
+    sim = subprocess.Popen([SIM, "--card", "ssi", "--script", "-"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                           stderr=subprocess.PIPE, text=True)
+    try:
+        sim.stdin.write("run 100\ngdb 0\nrun 100\nstatus\n")
+        sim.stdin.close()
+        before = []
+        for line in sim.stdout:
+            if line.startswith("gdb-port "):
+                break
+            before.append(line.strip())
+        assert before == ["display 1", "display 2"], before
+        port = line.split()[1]
+        g = subprocess.run([GDB, "-nx", "-batch", elf("ssi"), "-ex", "target remote 127.0.0.1:%s" % port,
+                            "-ex", "monitor time", "-ex", "detach"], capture_output=True, text=True, timeout=60)
+        assert "time 100.000000 ms cycles 1600000" in g.stdout + g.stderr, g.stdout + g.stderr
+        out = sim.stdout.read()
+        assert sim.wait(timeout=30) == 0
+        assert "status time=200.000ms" in out, out
+    finally:
+        if sim.poll() is None:
+            sim.kill()
+            sim.wait()
+    bad = subprocess.run([SIM, "--card", "inc", "--script", "-"], input="gdb 70000\n", capture_output=True,
+                         text=True, timeout=30)
+    assert bad.returncode == 1 and "usage: gdb PORT" in bad.stderr
