@@ -127,6 +127,15 @@ int mac4_gdb_instr(unsigned pc)
     return 1;
 }
 
+void gdbstub_fault(void)
+{
+    if (cfd < 0 || stop_now)
+        return;
+    stop_now = 1;
+    stop_sig = 11;                  /* SIGSEGV: what a real card would not survive */
+    stop_extra[0] = 0;
+}
+
 void gdbstub_access(unsigned addr, int size, int write)
 {
     addr &= 0xFFFFFF;

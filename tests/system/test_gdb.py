@@ -265,3 +265,25 @@ def test_script_command_gdb():
     bad = subprocess.run([SIM, "--card", "inc", "--script", "-"], input="gdb 70000\n", capture_output=True,
                          text=True, timeout=30)
     assert bad.returncode == 1 and "usage: gdb PORT" in bad.stderr
+
+
+def test_a_fault_stops_gdb():
+    """What a real card would not survive (an unmapped access here, the PC
+    set into nowhere by gdb) stops the CPU for gdb with SIGSEGV."""
+    sim = subprocess.Popen([SIM, "--card", "inc", "--gdb", "0", "--script", "-"], stdin=subprocess.PIPE,
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        sim.stdin.write("run 700\n")
+        sim.stdin.close()
+        port = sim.stdout.readline().split()[1]
+        g = subprocess.run([GDB, "-nx", "-batch", elf("inc"), "-ex", "target remote 127.0.0.1:%s" % port,
+                            "-ex", "break fw_main_step", "-ex", "continue", "-ex", "delete",
+                            "-ex", "set var $pc = 0x300000", "-ex", "continue", "-ex", "print/x $pc",
+                            "-ex", "detach"], capture_output=True, text=True, timeout=60)
+        assert "Program received signal SIGSEGV" in g.stdout, g.stdout + g.stderr
+        out = sim.stdout.read()
+        assert sim.wait(timeout=30) == 3 and "fault unmapped read16 at $300000" in out, out
+    finally:
+        if sim.poll() is None:
+            sim.kill()
+            sim.wait()
