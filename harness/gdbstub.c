@@ -107,6 +107,11 @@ int mac4_gdb_instr(unsigned pc)
         m68ki_cpu.nmi_pending = saved_nmi;
         hide_irq = 0;
     }
+    if (cfd < 0) {                  /* detached */
+        mac4_gdb_on = 0;
+        first_pending = 0;
+        return 0;
+    }
     if (first_pending) {
         first_pending = 0;
         if (pc == stop_pc)
@@ -174,7 +179,8 @@ static void drop_connection(void)
     if (cfd >= 0)
         close(cfd);
     cfd = -1;
-    mac4_gdb_on = 0;
+    /* mac4_gdb_on stays until the next instruction's hook, which gives
+     * back the interrupt lines of a resumed slice and turns itself off */
     mac4_gdb_watching = 0;
     nwatch = 0;
     memset(bp_map, 0, sizeof bp_map);
@@ -608,8 +614,10 @@ static void stop_and_serve(void)
 void gdbstub_slice_start(sim_t *s)
 {
     (void)s;
-    if (cfd < 0)
+    if (cfd < 0) {
+        mac4_gdb_on = 0;            /* detached between slices */
         return;
+    }
     if (!stop_now && sim_now(gs) >= next_poll) {   /* Ctrl-C from gdb, a closed connection */
         next_poll = sim_now(gs) + MS_TO_CYC(1);
         struct pollfd p = {cfd, POLLIN, 0};
@@ -644,7 +652,7 @@ void gdbstub_serve_stop(sim_t *s)
 void gdbstub_resume_in_slice(void)
 {
     if (!mac4_gdb_on)
-        return;                   /* detached: the hook is off, nothing hides the lines */
+        return;
     /* the same slice goes on: hide the interrupt lines from m68k_execute's
      * entry, the first instruction's hook gives them back */
     saved_level = m68ki_cpu.int_level;
