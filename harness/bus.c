@@ -10,7 +10,6 @@
 #include "sim.h"
 #include "periph.h"
 #include "cpu.h"
-#include "gdbstub.h"
 
 void sim_fault(sim_t *s, const char *fmt, ...)
 {
@@ -22,8 +21,8 @@ void sim_fault(sim_t *s, const char *fmt, ...)
     s->faults++;
     uint32_t pc = s->cpu_pc ? s->cpu_pc() : 0;
     sim_printf(s, "fault %s pc=$%06X\n", msg, pc);
-    if (mac4_gdb_on)
-        gdbstub_fault();          /* gdb stops after the instruction, SIGSEGV */
+    if (s->on_fault)
+        s->on_fault(s);           /* gdb stops after the instruction, SIGSEGV (gdbstub.c) */
 }
 
 /* ---- memories ------------------------------------------------------------ */

@@ -132,8 +132,11 @@ int mac4_gdb_instr(unsigned pc)
     return 1;
 }
 
-void gdbstub_fault(void)
+/* The emulator saw a fault (bus.c sim_fault, s->on_fault): stop before the
+ * next instruction. */
+static void gdbstub_fault(sim_t *s)
 {
+    (void)s;
     if (cfd < 0 || stop_now)
         return;
     stop_now = 1;
@@ -701,6 +704,7 @@ int gdbstub_attach(sim_t *s, int port)
     int one = 1;
     setsockopt(cfd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
     mac4_gdb_on = 1;
+    s->on_fault = gdbstub_fault;
     stop_sig = 5;
     stop_pc = m68k_get_reg(NULL, M68K_REG_PC);
     /* stopped between instructions: serve until gdb continues */

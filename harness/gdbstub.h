@@ -33,8 +33,6 @@ void gdbstub_access(unsigned addr, int size, int write);
 /* After the script the card runs on while gdb is attached (panel.c
  * bench_serve, paced to the wall clock) until gdb detaches. */
 int gdbstub_attached(void);
-/* The emulator saw a fault (bus.c sim_fault): stop before the next instruction. */
-void gdbstub_fault(void);
 /* Wall-clock seconds spent stopped so far (pacing loops subtract them). */
 double gdbstub_stopped_seconds(void);
 

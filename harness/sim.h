@@ -157,6 +157,7 @@ typedef struct sim {
     /* ---- end of measurement additions ---- */
     struct vcd *vcd;               /* `vcd FILE`: the waveform dump (harness/vcd.c), NULL when off */
     void (*on_display)(struct sim *s);   /* the display changed (the front panel, panel.c) */
+    void (*on_fault)(struct sim *s);     /* after a `fault` line (gdbstub.c) */
 } sim_t;
 
 #define AXIS_SYNC_STEP 16u          /* axis clock cycles per axis-board access */
