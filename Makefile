@@ -24,7 +24,10 @@ FW_HDRS  := $(wildcard firmware/*.h firmware/*.def hal/*.h hal/target/*.h) Makef
 
 WARN     := -Wall -Wextra -Werror -Wconversion -Wshadow -Wstrict-prototypes -Wmissing-prototypes
 OPT68 ?= -Os
-CFLAGS68 := -m68000 -ffreestanding -nostdlib -fno-pic -fno-builtin -std=c11 $(OPT68) \
+# debug information for gdb (docs/debugging.md); the EPROM bytes do not
+# depend on it (make debug-identical)
+DEBUG68 ?= -g
+CFLAGS68 := $(DEBUG68) -m68000 -ffreestanding -nostdlib -fno-pic -fno-builtin -std=c11 $(OPT68) \
             -fstack-usage -ffunction-sections -mstrict-align -fno-store-merging -fno-expensive-optimizations $(WARN) -Ihal -Ihal/target -Ifirmware -DHAL_TARGET
 LDFLAGS68 := -m68000 -nostdlib -static -T linker/mac4.ld -Wl,--gc-sections -Wl,--build-id=none -Wl,--fatal-warnings
 
@@ -35,11 +38,13 @@ MUS      := $(B)/deps/musashi
 MUSOBJ   := $(B)/musashi/m68kcpu.o $(B)/musashi/m68kops.o $(B)/musashi/m68kdasm.o $(B)/musashi/softfloat.o
 MUSCFLAGS := -std=gnu99 -O2 -g -w -I$(MUS) -Iharness -Ihal -DMUSASHI_CNF='"musashi_cnf.h"'
 
+# the workbench (docs/debugging.md): gdb stub, waveforms, front panel
+BENCH_SRCS := harness/gdbstub.c harness/bench_script.c harness/panel.c
 HARNESS_CORE := harness/sim.c harness/bus.c harness/periph.c harness/axisboard.c harness/host.c harness/run.c \
-                harness/plant.c harness/plant_vme.c harness/buswait.c
+                harness/plant.c harness/plant_vme.c harness/buswait.c harness/vcd.c
 HARNESS_SRCS := $(HARNESS_CORE) \
                 harness/script.c harness/script_serial.c harness/serial_host.c harness/script_plant.c harness/cpu_m68k.c harness/profile.c harness/cmdnames.c harness/mac4sim.c \
-                harness/perf.c
+                harness/perf.c $(BENCH_SRCS)
 HARNESS_HDRS := $(wildcard harness/*.h) hal/mac4_map.h firmware/commands.def
 
 IMAGES := $(foreach c,$(CARDS),$(B)/eprom/mac4-$(c).bin)
@@ -66,9 +71,9 @@ $(B)/fw-$(1)/%.o: firmware/%.c $(FW_HDRS) | $(MUS)/.stamp
 $(B)/fw-$(1)/hal_%.o: hal/target/%.c $(FW_HDRS) | $(MUS)/.stamp
 	@mkdir -p $$(@D)
 	@echo "  CC68    $$@"; $$(CC68) $$(CFLAGS68) -DMAC4_CARD=$(card_$(1)) -c $$< -o $$@
-$(B)/fw-$(1)/asm_%.o: hal/target/%.S hal/mac4_map.h | $(MUS)/.stamp
+$(B)/fw-$(1)/asm_%.o: hal/target/%.S hal/mac4_map.h Makefile | $(MUS)/.stamp
 	@mkdir -p $$(@D)
-	$$(CC68) -m68000 -Ihal -c $$< -o $$@
+	$$(CC68) $$(DEBUG68) -m68000 -Ihal -c $$< -o $$@
 FW_OBJS_$(1) := $(patsubst firmware/%.c,$(B)/fw-$(1)/%.o,$(FW_SRCS)) \
                 $(patsubst hal/target/%.c,$(B)/fw-$(1)/hal_%.o,$(TGT_SRCS)) \
                 $(patsubst hal/target/%.S,$(B)/fw-$(1)/asm_%.o,$(TGT_ASM))
@@ -223,3 +228,15 @@ test: differential timing
 
 # ---- the 68000 core against the reference vectors (docs/cpu-timing.md) -----
 include tests/conformance/conformance.mk
+
+# ---- the workbench (docs/debugging.md) -------------------------------------
+# The images carry -g debug information in their ELF for gdb; the EPROM bytes
+# must not depend on it: build them once more without -g and compare.
+.PHONY: debug-identical
+debug-identical: images
+	@$(MAKE) --no-print-directory B=$(B)/nodebug MUS=$(MUS) DEBUG68= \
+		$(foreach c,$(CARDS),$(B)/nodebug/eprom/mac4-$(c).bin) > $(B)/nodebug.log 2>&1 \
+		|| { cat $(B)/nodebug.log; exit 1; }
+	@for c in $(CARDS); do cmp $(B)/eprom/mac4-$$c.bin $(B)/nodebug/eprom/mac4-$$c.bin || exit 1; \
+		echo "debug-identical: mac4-$$c.bin the same with and without -g"; done
+test: debug-identical

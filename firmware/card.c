@@ -120,6 +120,7 @@ void axis_disable(unsigned n)
     axis_set_mode(n, M_DISABLE);
     axis_output(n, 0);           /* /EN open, 0 V or no pulses now, not at the next tick */
     axes[n].stop_then = STOP_NONE;
+    axes[n].stop_settle = 0;
     axes[n].next_mode = NO_MODE;
 }
 
@@ -247,6 +248,10 @@ void card_start(void)
     hal_wr16(TMR_CTRL, TMR_CTRL_RUN | TMR_CTRL_IE);
 #endif
     hal_wr16(UART_CTRL, UART_CTRL_RXIE);
+    /* 7.1.2 m_rdy "command operational": the card takes commands for every
+     * axis from here (display $5) until a reset; MR clears it (cmd.c) */
+    for (unsigned n = 0; n < MAC4_NAXES; n++)
+        axes[n].sstat |= SB(M_RDY);
     hal_irq_enable_all();
 }
 
@@ -329,7 +334,7 @@ static inline __attribute__((always_inline)) void axis_inputs(unsigned n)
 
     if ((active & AX_IN_DF) && x->mode != M_DISABLE && !(x->ustat & UB(DR_F))) {
         axis_error(n, UB(DR_F), ERR_LOGICAL);     /* 6.3.4 drive fault: ramp <ed>, disable */
-        motion_emergency(n, STOP_DISABLE);
+        motion_drive_fault(n);
         vme_irq((uint8_t)PAR(n, IRQ3));
     }
     /* 5.13: a limit switch reached in test mode turns the axis off; it can
@@ -380,15 +385,23 @@ static void publish(unsigned n)
     hal_wr32(d + DPA_RAW, x->raw);
 }
 
+/* The LEDs the firmware drives (2.5.3; the limit and reference LEDs follow
+ * the input levels in hardware): D disabled, P pos_end, F the drive fault
+ * signal as the card recognises it with the polarity <df> in force (UWSO),
+ * whatever its level; on the STP F also shows an unacknowledged error
+ * (7.1.2 led_fault). */
 static void leds(void)
 {
     uint16_t l = 0;
     for (unsigned n = 0; n < MAC4_NAXES; n++) {
-        if (axes[n].mode == M_DISABLE)
+        const axis_t *x = &axes[n];
+        if (x->mode == M_DISABLE)
             l |= (uint16_t)(SYS_LED_D << SYS_LED_SHIFT(n));
-        if (axes[n].ustat & UB(POS_END))
+        if (x->ustat & UB(POS_END))
             l |= (uint16_t)(SYS_LED_P << SYS_LED_SHIFT(n));
-        if (MAC4_CARD == MAC4_CARD_STP && (axes[n].ustat & US_ERRORS))
+        int32_t df = PAR(n, DF);
+        int df_on = df != 0 && (((hal_rd16(AX_REG(n, AX_IN)) & AX_IN_DF) != 0) ^ (df == 2));
+        if (df_on || (MAC4_CARD == MAC4_CARD_STP && (x->ustat & US_ERRORS)))
             l |= (uint16_t)(SYS_LED_F << SYS_LED_SHIFT(n));
     }
     hal_wr16(SYS_LEDS, l);
@@ -578,9 +591,13 @@ static inline __attribute__((always_inline)) void stp_tick_axis(unsigned n, unsi
         int32_t old_i = x->sp_i;
         uint16_t old_f = x->sp_f;
         if (x->braking) {                        /* a stop that cannot wait for the next SP */
-            int32_t v = brake_slower(x);
-            if (v <= x->br_ssf && v >= -x->br_ssf)
-                v = 0;                           /* from <ssf> or less a stepper stops at once (5.14) */
+            int32_t v = brake_slower(x), ssf = x->br_ssf;
+            if (v <= ssf && v >= -ssf) {
+                /* from <ssf> or less a stepper stops at once (5.14); a ramp step
+                 * that would jump from above it to below it ends at <ssf> first */
+                int32_t w = x->br_v;
+                v = w > ssf ? ssf : w < -ssf ? -ssf : 0;
+            }
             brake_step(x, v);
             int32_t i;
             uint16_t f;

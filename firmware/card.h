@@ -49,6 +49,17 @@ typedef struct {
     uint8_t phase;      /* phase of a justification mode */
     uint8_t done;       /* the move of the current mode is complete */
     uint8_t stop_then;  /* protective stop in progress: STOP_* */
+    /* INC/SSI: a stop that ends only with the mechanics at rest under
+     * closed-loop control (motion.c, stop_watch), with its runaway guards */
+    uint8_t stop_settle;    /* wait for the mechanics at rest before STOP_DISABLE/DEINIT */
+    uint8_t stop_rest;      /* supervised ticks in a row with |RAV| <= STOP_REST_VEL */
+    uint16_t stop_ticks;    /* supervised ticks since the stop began */
+    uint16_t stop_limit;    /* time bound in ticks, set when the setpoint ramp ends */
+    int32_t stop_fmax;      /* |following error| beyond this: the loop runs away */
+    int32_t stop_f0;        /* |following error| at the start of the stop */
+    int32_t stop_flast;     /* ... at the last supervision */
+    int32_t stop_vlast;     /* |RAV| at the last supervision */
+    uint8_t stop_grow;      /* supervised ticks in a row it grew beyond stop_f0, the speed not falling */
     uint8_t idx_seen;   /* index latched during a search */
     uint16_t trt_count;
     uint16_t trt_periods;
@@ -89,10 +100,22 @@ typedef struct {
 #define MK_SSI 3        /* MAC4-SSI, the encoder at the connector: measure_ssi() in the tick */
 #define MK_SSI_ABS 4    /* the same, absolute on a linear axis (the SSI's defaults): the reading is the position */
 
+/* in the order of precedence: a later stop only raises it */
 #define STOP_NONE 0
-#define STOP_DISABLE 1  /* emergency ramp <ed>, then disable */
-#define STOP_HOLD 2     /* emergency ramp <ed>, then hold in mode brake */
-#define STOP_DEINIT 3   /* DEINIT: stop with <ed>, disable, clear init (4.9) */
+#define STOP_HOLD 1     /* emergency ramp <ed>, then hold in mode brake */
+#define STOP_DISABLE 2  /* emergency ramp <ed>, at rest, then disable */
+#define STOP_DEINIT 3   /* DEINIT: stop with <ed>, at rest, disable, clear init (4.9) */
+
+/* The end of a stop that disables (INC/SSI, motion.c stop_watch): the
+ * mechanics at rest, |RAV| <= STOP_REST_VEL for STOP_REST_TICKS ticks in a
+ * row, at most 2 x the setpoint ramp's ticks + STOP_SETTLE_TICKS after the
+ * stop began; /EN opens at once if |RFE| exceeds its value at the start of
+ * the stop by more than <mf>/2, or grows beyond it for STOP_GROW_TICKS ticks
+ * in a row while the measured speed does not fall (docs/interpretations.md) */
+#define STOP_REST_VEL 1
+#define STOP_REST_TICKS 4
+#define STOP_SETTLE_TICKS 40
+#define STOP_GROW_TICKS 4
 
 #define NO_MODE 0xFF
 

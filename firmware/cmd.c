@@ -5,8 +5,10 @@
  * Order of the checks for a command (manual 3.4, 6.3):
  *   1. axis number 4..255            -> 160, overall status, nothing else happens
  *   2. code unknown on this card     -> 161
- *   3. an error waits to be reported -> that code (163/164/165), not executed
- *   4. read commands always run      -> the value
+ *   3. read commands always run      -> the value, even with an error waiting (6.3)
+ *   4. an error waits to be reported -> that code (163/164/165) in place of the
+ *                                       answer of this non-read, which is not
+ *                                       executed - but C, which acknowledges it
  *   5. C acknowledges errors
  *   6. an unacknowledged error       -> 163 (6.3.7)
  *   7. the command itself            -> its code and the user status, or 162/163
@@ -56,7 +58,7 @@ typedef struct {
 #define DIAG_RCP  DIAG_FIELD(pos)
 #if MAC4_CARD == MAC4_CARD_STP
 #define DIAG_RCPI CK_DIAG, CI_RCPI          /* encoder increments since INIT */
-#define DIAG_ROUT CK_DIAG, CI_ROUT          /* step frequency, Hz */
+#define DIAG_ROUT CK_DIAG, CI_ROUT          /* step frequency, Steps/SP (table 6.2) */
 #else
 #define DIAG_RCPI DIAG_FIELD(counter)
 #define DIAG_ROUT CK_DIAG, CI_ROUT          /* the DAC word, sign-extended */
@@ -222,6 +224,7 @@ static int write_param_checked(unsigned a, unsigned p, int32_t v)
         break;
     }
     case P_AP:
+    case P_AT:                    /* 6.3.3: every target, the tracking one too */
         if (!target_ok(a, v))
             return ERR_LIMIT;
         break;
@@ -279,6 +282,8 @@ static int mode_change_check(unsigned a, uint8_t target)
     uint8_t cur = axes[a].mode;
     if (target != M_DISABLE && !axis_initialised(a))
         return ERR_LOGICAL;                       /* operation starts after INIT (4) */
+    if (axes[a].stop_then >= STOP_DISABLE && target != M_DISABLE && target != M_RESET)
+        return ERR_LOGICAL;                       /* being stopped to disable it (4.8, 4.9) */
     switch (target) {
     case M_DISABLE:
     case M_RESET:
@@ -317,6 +322,10 @@ static int mode_change_check(unsigned a, uint8_t target)
     }
     case M_POSITIONING:
         if (!target_ok(a, PAR_W(a, AP)))
+            return ERR_LIMIT;
+        break;
+    case M_POS_TRACK:             /* the limits may have changed since WAT (INIT) */
+        if (!target_ok(a, PAR(a, AT)))
             return ERR_LIMIT;
         break;
     default:
@@ -367,8 +376,8 @@ static __attribute__((noinline)) int do_execute(unsigned a)
     axes[a].ustat &= ~(UB(POS_END) | UB(JUS_END));
     axes[a].sstat &= ~SB(IN_POS);
     uint8_t from = axes[a].mode;
-    if (mode == M_DISABLE) {
-        axis_disable(a);
+    if (mode == M_DISABLE || (mode == M_RESET && (from == M_DISABLE || from == M_TEST))) {
+        axis_disable(a);                          /* (reset: nothing moves to stop) */
     } else {
         axis_set_mode(a, mode);
         motion_start(a, mode, from, &plan);
@@ -435,6 +444,8 @@ static int do_general(int ci, unsigned a, uint32_t p)
         if (!(hal_rd16(SYS_STATUS) & SYS_ST_J11))
             return ERR_LOGICAL;                   /* 2.1.3: MR works only with J11 in */
         cmd_mr = 1;
+        for (unsigned n = 0; n < MAC4_NAXES; n++)
+            axes[n].sstat &= ~SB(M_RDY);          /* no more commands until the reset */
         return 0;
     case CI_FLYON:
         axes[a].ustat |= UB(ON_FLY);
@@ -486,7 +497,7 @@ static uint32_t read_value(cmd_t c, unsigned a)
     case CI_VER: return FW_VER_WORD;
 #if MAC4_CARD == MAC4_CARD_STP
     case CI_RCPI: return (uint32_t)stp_counts(a);
-    case CI_ROUT: return (uint32_t)stp_out_hz(a);
+    case CI_ROUT: return (uint32_t)stp_out_steps_sp(a);
 #else
     case CI_ROUT: return (uint32_t)(int32_t)x->out;
 #endif
@@ -552,9 +563,14 @@ static __attribute__((noinline)) void execute_slow(const mac4_msg_t *in, mac4_ms
 
     if (c.kind == CK_NONE) {
         err = ERR_SYNTAX;
+    } else if (kind_is_read(c.kind)) {
+        out->param = read_value(c, a);            /* 6.3: reads are always executed */
+        return;
     } else if (card_err_report || x->err_report) {
         /* 6.3.4-6.3.6: "the error message is given as the response to the
-         * next instruction"; the instruction itself is not executed. */
+         * next instruction" (a read excepted, 6.3); the instruction itself is
+         * not executed - but a C, which acknowledges the error it reports,
+         * so that a host never needs two.  The status as at the report. */
         uint16_t code = card_err_report ? card_err_report : x->err_report;
         if (card_err_report)
             card_err_report = 0;
@@ -562,9 +578,10 @@ static __attribute__((noinline)) void execute_slow(const mac4_msg_t *in, mac4_ms
             x->err_report = 0;
         out->code = code;
         out->param = is_card_error(code) ? card_ostat : x->ustat;
-        return;
-    } else if (kind_is_read(c.kind)) {
-        out->param = read_value(c, a);
+        if (c.kind == CK_GEN && c.arg == CI_C) {
+            x->err_report = 0;                    /* both of this axis' reports: one C */
+            (void)execute_other(c, a, in->param);
+        }
         return;
     } else {
         err = execute_other(c, a, in->param);
@@ -588,10 +605,10 @@ void cmd_execute(const mac4_msg_t *in, mac4_msg_t *out)
     wd_fired = 0;
     if (a < MAC4_NAXES) {
         last_valid_axis = (uint8_t)a;
-        /* the common case first: a read, no error waiting to be reported */
+        /* the common case first: a read (executed even with an error waiting, 6.3) */
         cmd_t c = cmd_of(code);
         const axis_t *x = axis_at[a];
-        if (kind_is_read(c.kind) && !(card_err_report | x->err_report)) {
+        if (kind_is_read(c.kind)) {
             if (c.kind == CK_FIELD)
                 out->param = *(const uint32_t *)(const void *)((const uint8_t *)x + c.arg);
             else

@@ -234,6 +234,7 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
     x->done = 0;
     x->phase = 0;
     x->stop_then = STOP_NONE;
+    x->stop_settle = 0;
     x->trt_count = 0;
     x->trt_periods = p->trt_periods;
     switch (mode) {
@@ -255,6 +256,8 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
      * mask (motion_after_command); until then they read as stale */
     x->q_gen = (uint16_t)~par_gen[n];
     motion_vq_due |= (uint8_t)(1u << n);
+    if (mode == M_RESET)
+        motion_emergency(n, STOP_DISABLE);       /* 4.8.2: the <ed> ramp from the next tick on */
 }
 
 void motion_after_command_do(void)
@@ -274,10 +277,32 @@ void motion_emergency(unsigned n, uint8_t then)
         axis_disable(n);
         return;
     }
+    if (x->stop_then == STOP_NONE) {
+        /* the runaway guard from the following error of the moment (stop_watch) */
+        int32_t e = x->ferr < 0 ? -x->ferr : x->ferr, m = x->mf / 2;
+        x->stop_fmax = e > INT32_MAX - m ? INT32_MAX : e + m;
+        x->stop_f0 = x->stop_flast = e;
+        x->stop_vlast = 0;
+        x->stop_grow = 0;
+        x->stop_ticks = 0;
+        x->stop_rest = 0;
+        x->stop_limit = 0;
+    }
     if (x->stop_then < then)                     /* deinit > disable > hold */
         x->stop_then = then;
+    /* INC/SSI: a stop that disables waits for the mechanics at rest; the
+     * STP is open loop: stopped is the step rate ramped to <ssf> and off */
+    x->stop_settle = MAC4_CARD != MAC4_CARD_STP && x->stop_then != STOP_HOLD;
     vq_refresh(n);
     brake_now(x, x->q_ed);                       /* from the next tick on, not the next SP */
+}
+
+/* 6.3.4: the drive's power stage is off, the loop cannot brake the motor:
+ * the setpoint ramps with <ed> and the axis is disabled as soon as it stands. */
+void motion_drive_fault(unsigned n)
+{
+    motion_emergency(n, STOP_DISABLE);
+    axis_at[n]->stop_settle = 0;
 }
 
 /* ---- justification helpers --------------------------------------------- */
@@ -303,6 +328,29 @@ static void justified(unsigned n, int set_zero)
 }
 
 static int64_t sgn(int32_t v, int64_t mag) { return v < 0 ? -mag : mag; }
+
+/* 4.3.1.1, 6.3.3: a linear axis in speed or velocity tracking never leaves
+ * its software limits: where the step just taken (from `was`) would no longer
+ * let it stop with dec before the limit ahead, the SP is instead the step of
+ * a positioning move onto the limit, which brakes with dec and lands on it;
+ * the axis holds there until the velocity turns away from it. */
+static void limit_guard(axis_t *x, unsigned n, const prof_t *was, int64_t dec)
+{
+    prof_t *p = &x->prof;
+    int64_t v = p->vel;
+    if (!x->linear || v == 0)
+        return;
+    int64_t lim = Q16((int64_t)(v > 0 ? x->lp : x->ln) - PAR(n, AO));
+    int64_t rem = v > 0 ? lim - p->pos : p->pos - lim;
+    int64_t av = v > 0 ? v : -v;
+    if (rem > 0 && !prof_must_brake(av, dec, rem))
+        return;                                  /* the common case: far from the limit */
+    prof_t q = *was;
+    int64_t vw = was->vel < 0 ? -was->vel : was->vel;
+    prof_position(&q, lim, av > vw ? av : vw, av > vw ? av - vw : 1, dec);
+    if (v > 0 ? q.pos < p->pos : q.pos > p->pos)
+        *p = q;
+}
 
 /* ---- the profile generator, once per SP -------------------------------- */
 /* The SP from `before` to prof.pos as the tick takes it: start, step per
@@ -408,19 +456,70 @@ static void pos_end_check(unsigned n)
     }
 }
 
-/* A protective stop has ramped down: what follows it (4.8). */
+/* A protective stop has ramped down (and, if it waits for it, the mechanics
+ * stand): what follows it (4.8). */
 static void stop_done(unsigned n)
 {
     axis_t *x = axis_at[n];
     if (x->stop_then == STOP_HOLD) {
         axis_set_mode(n, M_BRAKE);
     } else {
+        uint8_t then = x->stop_then;
         axis_disable(n);
-        if (x->stop_then == STOP_DEINIT)
+        if (then == STOP_DEINIT)
             x->ustat &= ~UB(INIT);
     }
     x->stop_then = STOP_NONE;
+    x->stop_settle = 0;
     x->done = 1;
+}
+
+/* After every tick of a stop that waits for the mechanics (stop_settle):
+ * the loop brakes them to rest and holds the braked setpoint; the axis is
+ * disabled once the measured speed has stayed near 0 for STOP_REST_TICKS.
+ * The guards against a loop that cannot stop them (6.3.9: a reversed or
+ * frozen encoder, a motor that cannot follow <ed>): /EN opens at once, with
+ * ferr_f and 163, when the following error grows beyond its value at the
+ * start of the stop plus <mf>/2, or beyond that value in STOP_GROW_TICKS
+ * ticks in a row without the mechanics slowing down, when the axis measures no motion with more than <mf>
+ * still to go, or when twice the ticks of the setpoint's ramp plus
+ * STOP_SETTLE_TICKS have passed.  1: the stop has ended. */
+static int stop_watch(axis_t *x, unsigned n)
+{
+    if (x->stop_ticks < UINT16_MAX)
+        x->stop_ticks++;
+    int32_t e = x->ferr < 0 ? -x->ferr : x->ferr, av = x->vel < 0 ? -x->vel : x->vel;
+    /* growing instead of shrinking: beyond its start, tick after tick, and
+     * the mechanics not slowing down (an overshoot slows down; a loop with
+     * its sign reversed speeds up or runs at its limit) */
+    if (e > x->stop_f0 && e > x->stop_flast + STOP_REST_VEL && av + STOP_REST_VEL >= x->stop_vlast)
+        x->stop_grow++;
+    else
+        x->stop_grow = 0;
+    x->stop_flast = e;
+    x->stop_vlast = av;
+    int over = e > x->stop_fmax || x->stop_grow >= STOP_GROW_TICKS;
+    if (!over && x->braking)
+        return 0;                                /* the setpoint's ramp runs */
+    if (!over) {
+        int32_t v = x->vel;
+        if (v <= STOP_REST_VEL && v >= -STOP_REST_VEL) {
+            /* standing with more than <mf> to go: the feedback does not follow
+             * the output (frozen or stuck encoder, a jammed motor) */
+            over = e > x->mf;
+            if (!over && ++x->stop_rest >= STOP_REST_TICKS) {
+                stop_done(n);                    /* at rest: now disable */
+                return 1;
+            }
+        } else {
+            x->stop_rest = 0;
+        }
+        if (!over && x->stop_ticks <= x->stop_limit)
+            return 0;
+    }
+    axis_error(n, UB(FERR_F), ERR_LOGICAL);      /* runaway or too slow: open /EN now */
+    stop_done(n);
+    return 1;
 }
 
 #if MAC4_CARD != MAC4_CARD_STP
@@ -508,22 +607,25 @@ static void profile_modes(unsigned n)
     vq_refresh(n);
     if (x->stop_then) {                          /* protective stop: ramp <ed> */
         int64_t ed = x->q_ed;
-        if (prof_ramp(p, 0, ed, ed))
-            stop_done(n);
+        if (prof_ramp(p, 0, ed, ed) && !x->stop_settle)
+            stop_done(n);                        /* (else when the mechanics stand: stop_watch) */
     } else {
         switch (x->mode) {
         case M_ENABLE:                           /* hold; UE from a move: stop with <pd> */
         case M_BRAKE:
             x->done = (uint8_t)prof_ramp(p, 0, x->q_pd, x->q_pd);
             break;
-        case M_RESET:                            /* 4.8.2: emergency ramp, then disable */
-            if (prof_ramp(p, 0, x->q_ed, x->q_ed))
-                axis_disable(n);
-            break;
-        case M_SPEED:                            /* <vt> with the ramps <pa>/<pd> */
+        case M_RESET:                            /* 4.8.2: emergency ramp, at rest, then disable */
+            motion_emergency(n, STOP_DISABLE);   /* the tick brakes (brake_now) */
+            return;
+        case M_SPEED: {                          /* <vt> with the ramps <pa>/<pd> */
+            prof_t was = *p;
             prof_ramp(p, vq(n, PAR(n, VT)), x->q_pa, x->q_pd);
+            limit_guard(x, n, &was, x->q_pd);    /* before a software limit: <pd> */
             break;
-        case M_VEL_TRACK:                        /* 5.11: acceleration not limited */
+        }
+        case M_VEL_TRACK: {                      /* 5.11: acceleration not limited */
+            prof_t was = *p;
 #if MAC4_CARD == MAC4_CARD_STP
             /* ... but from and to stand-still through <ssf> (5.14) */
             prof_ramp(p, vq(n, PAR(n, VT)), STP_UNLIMITED, STP_UNLIMITED);
@@ -531,7 +633,9 @@ static void profile_modes(unsigned n)
             p->vel = vq(n, PAR(n, VT));
             p->pos += p->vel;
 #endif
+            limit_guard(x, n, &was, x->q_ed);    /* before a software limit: <ed> */
             break;
+        }
         case M_POS_TRACK: {                      /* 5.12: <at> within the next SP */
             int64_t t = target_of(n, PAR(n, AT));
             p->vel = t - p->pos;
@@ -675,11 +779,17 @@ void motion_supervise(unsigned n)
         return;
     if (x->braking && x->br_v == 0) {            /* the tick's ramp has ended: act now */
         brake_done(x);
-        if (x->stop_then)
+        if (x->stop_settle) {                    /* the time bound from the ramp's ticks */
+            uint32_t lim = 2u * x->stop_ticks + STOP_SETTLE_TICKS;
+            x->stop_limit = (uint16_t)(lim > UINT16_MAX ? UINT16_MAX : lim);
+        } else if (x->stop_then) {
             stop_done(n);
+        }
         if (x->mode == M_DISABLE)
             return;
     }
+    if (x->stop_settle && stop_watch(x, n))
+        return;                                  /* disabled */
     /* the index latch, for the searches (the rare bit first) */
     if ((x->in & AX_IN_IDX) && !x->idx_seen &&
         (x->mode == M_SEARCH_IDX_C || x->mode == M_SEARCH_IDX || (x->mode == M_HOME && x->phase == 3))) {
@@ -704,12 +814,16 @@ void motion_supervise(unsigned n)
             axis_error(n, UB(LOGO_F), ERR_LOGICAL);   /* 4.3.1.1: braked and disabled; C first (6.3) */
             motion_emergency(n, STOP_DISABLE);
         } else if (x->ustat & (UB(HWL_P) | UB(HWL_N))) {
-            /* hardware limits stop motion into the switch, not out of it;
-             * find edge looks for the switch on purpose */
+            /* hardware limits stop motion into the switch, not out of it, in
+             * every mode (test mode: card.c); find edge may run into the one
+             * limit switch it looks for (<dl> 1, 2), to its edge */
             int64_t v = x->prof.vel;
-            int into_p = v > 0 && (x->ustat & UB(HWL_P));
-            int into_n = v < 0 && (x->ustat & UB(HWL_N));
-            if ((into_p || into_n) && x->mode != M_FIND_EDGE) {
+            uint32_t into = x->ustat & (v > 0 ? UB(HWL_P) : v < 0 ? UB(HWL_N) : 0);
+            if (x->mode == M_FIND_EDGE) {
+                int32_t dl = PAR(n, DL);
+                into &= ~(dl == 1 ? UB(HWL_N) : dl == 2 ? UB(HWL_P) : 0);
+            }
+            if (into) {
                 axis_error(n, UB(LOGO_F), ERR_LOGICAL);   /* C first (6.3), then out of the switch */
                 motion_emergency(n, STOP_HOLD);
             }

@@ -30,6 +30,7 @@ static inline void motion_after_command(void)
 }
 void motion_hold(unsigned n);                 /* setpoint := actual position, at rest */
 void motion_emergency(unsigned n, uint8_t then);  /* ramp <ed> from the next tick on, then STOP_* */
+void motion_drive_fault(unsigned n);          /* ramp <ed>, disable when the setpoint stands (6.3.4) */
 void motion_brake(unsigned n);                /* ramp <pd> from the next tick on (stop bits) */
 void motion_profile_tick(unsigned n);         /* main loop, once per SP: the next segment */
 void motion_supervise(unsigned n);            /* main loop, after every tick: index, protection */
@@ -49,7 +50,7 @@ static inline __attribute__((always_inline)) int motion_quiet(const axis_t *x)
         (x->mode == M_SEARCH_IDX_C || x->mode == M_SEARCH_IDX || x->mode == M_HOME))
         return 0;                                 /* an index latched during a search */
     if (x->stop_then)
-        return 1;
+        return !x->stop_settle;                   /* a stop waiting for rest: stop_watch() */
     int32_t mf = x->mf;
     if (x->ferr > mf || x->ferr < -mf)
         return 0;

@@ -751,6 +751,14 @@ void stp_idle_output(unsigned n)
     s->obits &= (uint16_t)~AX_CTRL_BOOST;
 }
 
-int32_t stp_out_hz(unsigned n) { return stp_hz_now(n); }
+/* ROUT in Steps/SP (table 6.2): the frequency of the moment x 32 ms,
+ * rounded, 4 hz / 125 (|hz| <= 500 kHz: the quotient fits DIVU's 16 bits) */
+int32_t stp_out_steps_sp(unsigned n)
+{
+    int32_t hz = stp_hz_now(n);
+    uint32_t a = (uint32_t)(hz < 0 ? -hz : hz);
+    int32_t q = (int32_t)(uint16_t)divu16(4u * a + 62u, 125u);
+    return hz < 0 ? -q : q;
+}
 
 #endif

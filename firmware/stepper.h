@@ -161,7 +161,7 @@ void stp_profile_end(unsigned n, int64_t before, int64_t before_vel);  /* BOOST 
 void stp_trim(unsigned n);
 /* output stage and interrupts (card.c) */
 void stp_idle_output(unsigned n);             /* disabled or test mode */
-int32_t stp_out_hz(unsigned n);               /* ROUT */
+int32_t stp_out_steps_sp(unsigned n);         /* ROUT, Steps/SP (table 6.2) */
 
 /* The rate register for t = |distance| + carry Q16 steps in this tick:
  * t / 400 (stp_rate_of), the remainder carried to the next tick; at or

@@ -110,6 +110,22 @@ void axis_irq_wr(sim_t *s, uint32_t off, uint32_t v, int size)
     sim_fault(s, "write to the read-only axis interrupt register");
 }
 
+const axis_led_t axis_leds[AXIS_NLEDS] = {
+    {"D", SYS_LED_D, 0}, {"P", SYS_LED_P, 0}, {"F", SYS_LED_F, 0},
+    {"LP", 0, AX_IN_IESP}, {"LN", 0, AX_IN_IESN}, {"REF", 0, AX_IN_RS},
+};
+
+unsigned axisboard_leds(sim_t *s, int n)
+{
+    uint16_t reg = (uint16_t)(s->leds >> SYS_LED_SHIFT(n));
+    uint16_t in = plant_inputs_word(s, n, sim_now(s));
+    unsigned lit = 0;
+    for (unsigned i = 0; i < AXIS_NLEDS; i++)
+        if ((reg & axis_leds[i].reg) || (in & axis_leds[i].in))
+            lit |= 1u << i;
+    return lit;
+}
+
 /* Reset (tables 2.2, 2.6, 2.12): /EN open, DAC 0 V, rate 0, DIR and BOOST
  * open collector, counters, latches, SSI receivers and pulse logic cleared.
  * The plant itself is not reset: the motors coast. */

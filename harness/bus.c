@@ -21,6 +21,8 @@ void sim_fault(sim_t *s, const char *fmt, ...)
     s->faults++;
     uint32_t pc = s->cpu_pc ? s->cpu_pc() : 0;
     sim_printf(s, "fault %s pc=$%06X\n", msg, pc);
+    if (s->on_fault)
+        s->on_fault(s);           /* gdb stops after the instruction, SIGSEGV (gdbstub.c) */
 }
 
 /* ---- memories ------------------------------------------------------------ */

@@ -10,11 +10,13 @@
 #include "periph.h"
 #include "profile.h"
 #include "buswait.h"
+#include "gdbstub.h"
 
 static int expect_vector;   /* an interrupt acknowledge precedes its vector fetch */
 static int in_slice;        /* m68k_cycles_run() is only meaningful inside m68k_execute */
+static cyc_t slice_done;    /* cycles of the slice before a gdb stop (gdbstub.c) */
 
-static cyc_t m68k_elapsed(void) { return in_slice ? (cyc_t)m68k_cycles_run() : 0; }
+static cyc_t m68k_elapsed(void) { return in_slice ? slice_done + (cyc_t)m68k_cycles_run() : 0; }
 static uint32_t m68k_pc(void) { return m68k_get_reg(NULL, M68K_REG_PPC); }
 
 static const char *vector_name(unsigned v)
@@ -80,7 +82,7 @@ static inline void bus_cycles(unsigned a, int write, unsigned n)
     } else {
         w = buswait_charge(a, write, n);
         if (a < DPRAM_SIZE)
-            w += buswait_dpram_contention(g_sim->slice_base + (cyc_t)m68k_cycles_run(), a);
+            w += buswait_dpram_contention(g_sim->slice_base + m68k_elapsed(), a);
     }
     if (w)
         USE_CYCLES((int)w);
@@ -89,18 +91,24 @@ static inline void bus_cycles(unsigned a, int write, unsigned n)
 unsigned int m68k_read_memory_8(unsigned int a)
 {
     bus_cycles(a, 0, 1);
+    if (mac4_gdb_watching)
+        gdbstub_access(a, 1, 0);
     const uint8_t *m = mem_fast(a & 0xFFFFFF, 1);
     return m ? m[0] : bus_read(g_sim, a, 1);
 }
 unsigned int m68k_read_memory_16(unsigned int a)
 {
     bus_cycles(a, 0, 1);
+    if (mac4_gdb_watching)
+        gdbstub_access(a, 2, 0);
     const uint8_t *m = mem_fast(a & 0xFFFFFF, 2);
     return m ? (unsigned)m[0] << 8 | m[1] : bus_read(g_sim, a, 2);
 }
 unsigned int m68k_read_memory_32(unsigned int a)
 {
     bus_cycles(a, 0, 2);
+    if (mac4_gdb_watching)
+        gdbstub_access(a, 4, 0);
     const uint8_t *m = mem_fast(a & 0xFFFFFF, 4);
     if (m)
         return (unsigned)m[0] << 24 | (unsigned)m[1] << 16 | (unsigned)m[2] << 8 | m[3];
@@ -116,6 +124,8 @@ static inline uint8_t *sram_fast(unsigned a, unsigned n)
 void m68k_write_memory_8(unsigned int a, unsigned int v)
 {
     bus_cycles(a, 1, 1);
+    if (mac4_gdb_watching)
+        gdbstub_access(a, 1, 1);
     uint8_t *m = sram_fast(a, 1);
     if (m)
         m[0] = (uint8_t)v;
@@ -125,6 +135,8 @@ void m68k_write_memory_8(unsigned int a, unsigned int v)
 void m68k_write_memory_16(unsigned int a, unsigned int v)
 {
     bus_cycles(a, 1, 1);
+    if (mac4_gdb_watching)
+        gdbstub_access(a, 2, 1);
     uint8_t *m = sram_fast(a, 2);
     if (m) {
         m[0] = (uint8_t)(v >> 8);
@@ -136,6 +148,8 @@ void m68k_write_memory_16(unsigned int a, unsigned int v)
 void m68k_write_memory_32(unsigned int a, unsigned int v)
 {
     bus_cycles(a, 1, 2);
+    if (mac4_gdb_watching)
+        gdbstub_access(a, 4, 1);
     uint8_t *m = sram_fast(a, 4);
     if (m) {
         m[0] = (uint8_t)(v >> 24);
@@ -226,12 +240,28 @@ static cyc_t m68k_cpu_execute(sim_t *s, cyc_t max)
     (void)s;
     if (max > 0x7FFFFFF)
         max = 0x7FFFFFF;
+    if (mac4_gdb_on)
+        gdbstub_slice_start(s);   /* Ctrl-C, or a stop asked for between slices */
     in_slice = 1;
-    profile_slice_start();
-    int ran = m68k_execute((int)max);
-    profile_slice_end(ran);
+    slice_done = 0;
+    for (;;) {
+        profile_slice_start();
+        int ran = m68k_execute((int)(max - slice_done));
+        profile_slice_end(ran);
+        if (!gdbstub_stopped_in_slice()) {
+            slice_done += (cyc_t)ran;
+            break;
+        }
+        /* gdb stopped the CPU before an instruction: time stands still
+         * while it is served, then the same slice goes on */
+        gdbstub_serve_stop(s);
+        slice_done += (cyc_t)ran;
+        if (slice_done >= max)
+            break;
+        gdbstub_resume_in_slice();
+    }
     in_slice = 0;
-    return (cyc_t)ran;
+    return slice_done;
 }
 
 static void m68k_cpu_set_irq(int level) { m68k_set_irq((unsigned)level); }

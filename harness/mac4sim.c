@@ -10,6 +10,8 @@
 #include "profile.h"
 #include "serial_host.h"
 #include "buswait.h"
+#include "gdbstub.h"
+#include "panel.h"
 
 static sim_t card;
 
@@ -44,6 +46,15 @@ static void usage(FILE *f)
             "  --serve-seconds N    serve the line for N seconds instead, keeping the card\n"
             "                       running while clients disconnect and reconnect\n"
             "  --serial-log FILE    write the serial session as a host script that replays it\n"
+            "  --serve-seconds N    with --serial-pty: stop serving after N seconds\n"
+            "  --gdb PORT           wait for gdb on 127.0.0.1:PORT (0: any free port; prints\n"
+            "                       'gdb-port N') with the CPU stopped before its first\n"
+            "                       instruction; after the script the card runs on in real\n"
+            "                       time until gdb detaches (docs/debugging.md)\n"
+            "  --panel PORT         the front panel as a web page on 127.0.0.1:PORT (0: any\n"
+            "                       free port; prints 'panel-port N'); after the script the\n"
+            "                       card runs on in real time (docs/debugging.md)\n"
+            "                       --serve-seconds N bounds that too\n"
             "  --help               this text\n"
             "Exit status: 0 ok, 1 usage or script error, 3 emulator faults seen.\n");
 }
@@ -58,6 +69,8 @@ int main(int argc, char **argv)
     int allow_faults = 0, timestamps = 0, level = 3, j11 = 1;
     serial_opts_t serial = {SERIAL_CONN_NONE, NULL, 0, NULL};   /* docs/serial.md */
     double serve_seconds = 0;
+    int gdb_port = -1;           /* --gdb: docs/debugging.md */
+    int panel_port = -1;         /* --panel: docs/debugging.md */
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *val = (i + 1 < argc) ? argv[i + 1] : NULL;
@@ -119,6 +132,23 @@ int main(int argc, char **argv)
             i++;
         } else if (!strcmp(a, "--serial-log") && val) {
             serial.log = val;
+        } else if (!strcmp(a, "--gdb") && val) {
+            char *end;
+            long p = strtol(val, &end, 10);
+            if (end == val || *end || p < 0 || p > 65535 || mac4sim_native_cpu) {
+                fprintf(stderr, "mac4sim: bad --gdb '%s' (a port 0..65535; the 68000 build only)\n", val);
+                return 1;
+            }
+            gdb_port = (int)p;
+            i++;
+        } else if (!strcmp(a, "--panel") && val) {
+            char *end;
+            long p = strtol(val, &end, 10);
+            if (end == val || *end || p < 0 || p > 65535) {
+                fprintf(stderr, "mac4sim: bad --panel '%s' (a port 0..65535)\n", val);
+                return 1;
+            }
+            panel_port = (int)p;
             i++;
         } else if (!strcmp(a, "--serve-seconds") && val) {
             char *end;
@@ -174,13 +204,25 @@ int main(int argc, char **argv)
     }
     if (serial_host_init(&card, &serial))
         return 1;
-    sim_attach_cpu(&card, serial_host_cpu(mac4sim_native_cpu ? mac4sim_native_cpu() : &cpu_m68k));
+    const cpu_t *cpu = serial_host_cpu(mac4sim_native_cpu ? mac4sim_native_cpu() : &cpu_m68k);
+    if (panel_port >= 0) {
+        char cj[4200];
+        char self[2048];
+        snprintf(self, sizeof self, "%s", argv[0]);
+        snprintf(cj, sizeof cj, "%s/commands.json", dirname(self));
+        if (panel_listen(&card, panel_port, cj))
+            return 1;
+        cpu = panel_cpu(cpu);
+    }
+    sim_attach_cpu(&card, cpu);
 
     FILE *in = strcmp(script, "-") ? fopen(script, "r") : stdin;
     if (!in) {
         fprintf(stderr, "mac4sim: cannot open script '%s'\n", script);
         return 1;
     }
+    if (gdb_port >= 0 && gdbstub_attach(&card, gdb_port))
+        return 1;
     script_t sc = {script, 0, 0};
     int errors = serial_host_script_run(&sc, &card, in);
     if (in != stdin)
@@ -188,6 +230,7 @@ int main(int argc, char **argv)
     if (errors)
         return 1;
     serial_host_serve(&card, serve_seconds);
+    bench_serve(&card, serve_seconds);   /* while the panel is open or gdb attached */
     if (card.faults && !allow_faults)
         return 3;
     return 0;

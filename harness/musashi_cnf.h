@@ -49,7 +49,14 @@ void mac4_reset_instr(void);
 extern int mac4_profiling;
 void mac4_profile_instr(unsigned pc);
 #define M68K_INSTRUCTION_HOOK       OPT_SPECIFY_HANDLER
-#define M68K_INSTRUCTION_CALLBACK(pc) do { if (mac4_profiling) mac4_profile_instr(pc); } while (0)
+/* The gdb stub (harness/gdbstub.c) stops before an instruction: the hook
+ * stands in m68k_execute's instruction loop, and `break` leaves the loop
+ * before the instruction is fetched (no Musashi patch needed; the gdb
+ * system test fails if the hook ever moves out of that loop). */
+extern int mac4_gdb_on;
+int mac4_gdb_instr(unsigned pc);
+#define M68K_INSTRUCTION_CALLBACK(pc) \
+    if (mac4_gdb_on && mac4_gdb_instr(pc)) break; else if (mac4_profiling) mac4_profile_instr(pc)
 /* The bus cycles Musashi makes no memory callback for (our patch
  * harness/musashi-patches/0001-bus-cycles.patch; docs/cpu-timing.md):
  * n reads at address (n < 0: fewer).  Memory callbacks, a long one as

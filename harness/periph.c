@@ -20,6 +20,8 @@ static void display_show(sim_t *s, uint16_t v)
     s->display = v;
     buswait_mark(sim_now(s));      /* `bus-stats display`: the counts at this write */
     sim_printf(s, "display %X%s\n", v & 0xF, (v & SYS_DISPLAY_DP) ? "." : "");
+    if (s->on_display)
+        s->on_display(s);
 }
 
 uint32_t sys_rd(sim_t *s, uint32_t off, int size)
@@ -277,20 +279,31 @@ void periph_reset(sim_t *s)
     axisboard_reset(s);
 }
 
-int sim_irq_level(sim_t *s)
+/* Every request line (the waveform shows them one by one, vcd.c). */
+unsigned sim_irq_lines(sim_t *s)
 {
+    unsigned l = 0;
     if (estop_edge)
-        return IRQ_LEVEL_ESTOP;
+        l |= 1u << IRQ_LEVEL_ESTOP;
     if ((s->tmr.status & TMR_ST_EXPIRED) && (s->tmr.ctrl & TMR_CTRL_IE) &&
         (s->tmr.irq_at <= s->tmr.last || sim_now(s) >= s->tmr.irq_at))   /* TMR_CTRL_SSI_WAIT */
-        return IRQ_LEVEL_TIMER;
+        l |= 1u << IRQ_LEVEL_TIMER;
     if (axis_irq_rd(s, 0, 2))
-        return IRQ_LEVEL_AXIS;
+        l |= 1u << IRQ_LEVEL_AXIS;
     if ((s->uart.ctrl & UART_CTRL_RXIE) && (s->uart.rx_full || s->uart.overrun))
-        return IRQ_LEVEL_UART;
+        l |= 1u << IRQ_LEVEL_UART;
     if ((s->uart.ctrl & UART_CTRL_TXIE) && !s->uart.tx_busy)
-        return IRQ_LEVEL_UART;
-    return 0;
+        l |= 1u << IRQ_LEVEL_UART;
+    return l;
+}
+
+int sim_irq_level(sim_t *s)
+{
+    unsigned l = sim_irq_lines(s);
+    int lvl = 0;
+    while (l >>= 1)
+        lvl++;
+    return lvl;                    /* the highest request */
 }
 
 int sim_irq_source(int level)

@@ -22,6 +22,7 @@
 #include "sim.h"
 #include "periph.h"
 #include "plant.h"
+#include "vcd.h"
 
 #define TWO_PI 6.283185307179586
 #define CPU_HZ 16000000.0
@@ -161,7 +162,7 @@ static double input_u(sim_t *s, int n)
 /* ======================================================================== */
 /* step generator: phase accumulator, pulses counted analytically            */
 /* ======================================================================== */
-static cyc_t nco_period(sim_t *s, int n)
+cyc_t plant_nco_period(sim_t *s, int n)
 {
     return (s->ax[n].ctrl & AX_CTRL_TURBO) ? (cyc_t)(CPU_HZ / STP_CLK_HZ_TURBO)
                                            : (cyc_t)(CPU_HZ / STP_CLK_HZ);
@@ -172,17 +173,24 @@ static int nco_running(sim_t *s, int n)
     return is_stp(s) && s->ax[n].rate && s->plant.ax[n].pmode != PLANT_PULSES_DONE;
 }
 
-/* The cycle at which the j-th pulse from now comes (j >= 1). */
-static cyc_t nco_pulse_time(sim_t *s, int n, uint64_t j)
+/* The cycle at which the j-th pulse comes (j >= 1) after the clock stood
+ * at nco_t with the accumulator at acc. */
+cyc_t plant_nco_pulse_time(sim_t *s, int n, cyc_t nco_t, uint32_t acc, uint64_t j)
 {
-    plant_axis_t *p = &s->plant.ax[n];
     uint32_t rate = s->ax[n].rate;
     if (!rate || !j)
         return CYC_NEVER;
-    cyc_t P = nco_period(s, n);
-    uint64_t need = j * 65536u - p->acc;
+    cyc_t P = plant_nco_period(s, n);
+    uint64_t need = j * 65536u - acc;
     uint64_t m = (need + rate - 1) / rate;
-    return (p->nco_t / P + m) * P;
+    return (nco_t / P + m) * P;
+}
+
+/* ... from now */
+static cyc_t nco_pulse_time(sim_t *s, int n, uint64_t j)
+{
+    plant_axis_t *p = &s->plant.ax[n];
+    return plant_nco_pulse_time(s, n, p->nco_t, p->acc, j);
 }
 
 static cyc_t nco_done_time(sim_t *s, int n)
@@ -204,8 +212,10 @@ static int nco_advance(sim_t *s, int n, cyc_t to)
         p->nco_t = to;
         return 0;
     }
-    cyc_t P = nco_period(s, n);
+    cyc_t P = plant_nco_period(s, n);
     uint64_t k = to / P - p->nco_t / P;
+    cyc_t nco_t0 = p->nco_t;            /* for the waveform's STEP edges (vcd.c) */
+    uint32_t acc0 = p->acc;
     p->nco_t = to;
     if (!k)
         return 0;
@@ -232,6 +242,8 @@ static int nco_advance(sim_t *s, int n, cyc_t to)
     p->gen += d;
     if (drive_enabled(s, n))
         p->cmd += d;                    /* a disabled driver ignores its pulses */
+    if (s->vcd)
+        vcd_pulses(s, n, nco_t0, acc0, c);
     if (a->ctrl & AX_CTRL_PULSE_IE) {
         if ((a->pstat & AX_IN_PULSE) || c > 1)
             a->pstat |= AX_IN_PULSE_OVR;
@@ -627,6 +639,8 @@ static void cut(sim_t *s, int n, cyc_t now)
     plant_axis_t *p = &s->plant.ax[n];
     double v = lerp_v(p, now);
     if (is_stp(s)) {
+        if (!p->sync && s->vcd)
+            vcd_piece(s, n, p->t0, p->x0, now, lerp_x(p, now));
         if (!p->sync)
             p->x0 = lerp_x(p, now);
         p->v0 = v;
@@ -634,6 +648,8 @@ static void cut(sim_t *s, int n, cyc_t now)
             stp_lose_sync(p, v);
         stp_try_resync(s, n);
     } else {
+        if (s->vcd)
+            vcd_piece(s, n, p->t0, p->x0, now, lerp_x(p, now));
         p->x0 = lerp_x(p, now);
         p->v0 = v;
     }
@@ -680,6 +696,8 @@ void plant_sync(sim_t *s, int n, cyc_t now)
             cut(s, n, now);
             mirror_counter(s, n, now);
         }
+        if (s->vcd)
+            vcd_synced(s, n);
         return;
     }
     for (;;) {
@@ -694,6 +712,8 @@ void plant_sync(sim_t *s, int n, cyc_t now)
         } else if (te == p->t_idx) {
             idx_event(s, n, te);
         } else {
+            if (s->vcd && !(is_stp(s) && p->sync))
+                vcd_piece(s, n, p->t0, p->x0, p->t1, p->x1);
             p->t0 = p->t1;
             p->x0 = p->x1;
             p->v0 = p->v1;
@@ -714,6 +734,8 @@ void plant_sync(sim_t *s, int n, cyc_t now)
     if (inputs_changed(s, n))   /* e.g. the emergency stop, or a poked register */
         cut(s, n, now);
     mirror_counter(s, n, now);
+    if (s->vcd)
+        vcd_synced(s, n);
 }
 
 void plant_inputs(sim_t *s, int n, cyc_t now)
@@ -777,10 +799,17 @@ void plant_idx_arm(sim_t *s, int n, cyc_t now)
 
 int plant_switch_active(sim_t *s, int n, int which, cyc_t t)
 {
-    const plant_switch_t *w = &s->plant.ax[n].sw[which];
+    if (!s->plant.ax[n].sw[which].used)
+        return 0;
+    return plant_switch_at(&s->plant.ax[n], which, ifloor(plant_units(s, n, t) + 0.5));
+}
+
+/* Is the switch on with the axis at x (rounded units)? */
+int plant_switch_at(const plant_axis_t *p, int which, int64_t x)
+{
+    const plant_switch_t *w = &p->sw[which];
     if (!w->used)
         return 0;
-    int64_t x = ifloor(plant_units(s, n, t) + 0.5);
     switch (which) {
     case PLANT_SW_LP: return x >= w->pos;
     case PLANT_SW_LN: return x <= w->pos;

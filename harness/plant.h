@@ -160,6 +160,10 @@ double plant_units_per_s(struct sim *s, int n, uint64_t t);
 double plant_units_per_rev(struct sim *s, int n);            /* per output revolution */
 double plant_motor_rpm(struct sim *s, int n, uint64_t t);
 int plant_switch_active(struct sim *s, int n, int which, uint64_t t);
+int plant_switch_at(const plant_axis_t *p, int which, int64_t x);     /* at x rounded units */
+uint64_t plant_nco_period(struct sim *s, int n);                      /* STP step clock, cycles */
+/* when the j-th pulse comes after the step clock stood at nco_t, accumulator acc */
+uint64_t plant_nco_pulse_time(struct sim *s, int n, uint64_t nco_t, uint32_t acc, uint64_t j);
 uint32_t plant_ssi_value(struct sim *s, int n, uint64_t t);  /* binary, before J1 coding */
 int plant_trace_start(struct sim *s, int n, const char *path, uint64_t interval_cyc);
 /* the same; tick: a row at every timer expiry (interval ignored); card: the

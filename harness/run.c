@@ -4,6 +4,7 @@
  */
 #include "cpu.h"
 #include "periph.h"
+#include "vcd.h"
 
 static const cpu_t *cpu;
 int sim_halted;
@@ -20,6 +21,8 @@ void sim_update_irq(sim_t *s)
 {
     if (cpu)
         cpu->set_irq(sim_irq_level(s));
+    if (s->vcd)                   /* after every I/O access and at every slice */
+        vcd_sample(s);
 }
 
 void sim_reset(sim_t *s, const char *why)

@@ -6,6 +6,7 @@
  */
 #include <ctype.h>
 #include <errno.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "script.h"
@@ -13,6 +14,7 @@
 #include "periph.h"
 #include "profile.h"
 #include "buswait.h"
+#include "plant.h"
 
 #define MAXTOK 64
 
@@ -239,7 +241,24 @@ int script_line(script_t *sc, sim_t *s, char *line)
         return 0;
     }
     if (!strcmp(c, "leds")) {
-        sim_printf(s, "leds 0x%04X stop=%d\n", s->leds, s->estop);
+        /* the register word, then the six LEDs of each axis that are lit
+         * (2.5.3): D, P, F from the register, the limit and reference LEDs
+         * from the input levels (lit at 0 V: AX_IN bit set), as in hardware */
+        char buf[160];
+        int k = snprintf(buf, sizeof buf, "leds 0x%04X stop=%d", s->leds, s->estop);
+        for (int a = 0; a < 4; a++) {
+            unsigned lit = axisboard_leds(s, a);
+            k += snprintf(buf + k, sizeof buf - (size_t)k, " %d=", a);
+            int any = 0;
+            for (unsigned i = 0; i < AXIS_NLEDS; i++)
+                if (lit & (1u << i)) {
+                    k += snprintf(buf + k, sizeof buf - (size_t)k, "%s%s", any ? "," : "", axis_leds[i].name);
+                    any = 1;
+                }
+            if (!any)
+                k += snprintf(buf + k, sizeof buf - (size_t)k, "-");
+        }
+        sim_printf(s, "%s\n", buf);
         return 0;
     }
     if (!strcmp(c, "host")) {
@@ -281,7 +300,7 @@ int script_line(script_t *sc, sim_t *s, char *line)
         return 1;
     /* command families that live beside their models */
     static int (*const ext[])(script_t *, sim_t *, char **, int) = {script_serial, script_plant,
-                                                                      script_perf};
+                                                                      script_perf, script_bench};
     for (unsigned i = 0; i < sizeof ext / sizeof ext[0]; i++) {
         int r = ext[i](sc, s, tok, n);
         if (r != SCRIPT_NOT_MINE)

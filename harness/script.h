@@ -23,5 +23,6 @@ int script_err(script_t *sc, const char *fmt, const char *arg);   /* returns -1 
 int script_serial(script_t *sc, sim_t *s, char **tok, int n);   /* script_serial.c */
 int script_plant(script_t *sc, sim_t *s, char **tok, int n);    /* script_plant.c */
 int script_perf(script_t *sc, sim_t *s, char **tok, int n);     /* perf.c: perf ..., run-ticks */
+int script_bench(script_t *sc, sim_t *s, char **tok, int n);    /* bench_script.c: gdb, vcd */
 
 #endif

@@ -6,6 +6,7 @@
 #include <string.h>
 #include "sim.h"
 #include "periph.h"
+#include "vcd.h"
 
 sim_t *g_sim;
 
@@ -87,6 +88,8 @@ void irq_enter(sim_t *s, int level)
     }
     s->active[s->nactive].nested = 0;
     s->nactive++;
+    if (s->vcd)
+        vcd_handler(s, sim_now(s));
 }
 
 void irq_leave(sim_t *s, cyc_t extra)
@@ -113,6 +116,8 @@ void irq_leave(sim_t *s, cyc_t extra)
         st->xmax = excl;
     if (s->nactive > 0)
         s->active[s->nactive - 1].nested += dur;
+    if (s->vcd)
+        vcd_handler(s, sim_now(s) + extra);
     if (s->on_irq_leave)
         s->on_irq_leave(s, s->active[s->nactive].src, start, dur, excl, s->nactive);
 }

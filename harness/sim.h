@@ -155,6 +155,9 @@ typedef struct sim {
     cyc_t axis_tick_seen;          /* tmr.last when it was taken */
     uint32_t axis_n;               /* accesses since */
     /* ---- end of measurement additions ---- */
+    struct vcd *vcd;               /* `vcd FILE`: the waveform dump (harness/vcd.c), NULL when off */
+    void (*on_display)(struct sim *s);   /* the display changed (the front panel, panel.c) */
+    void (*on_fault)(struct sim *s);     /* after a `fault` line (gdbstub.c) */
 } sim_t;
 
 #define AXIS_SYNC_STEP 16u          /* axis clock cycles per axis-board access */
@@ -171,6 +174,7 @@ void periph_reset(sim_t *s);
 cyc_t periph_next_event(sim_t *s);
 void periph_events(sim_t *s, cyc_t now);
 int sim_irq_level(sim_t *s);
+unsigned sim_irq_lines(sim_t *s);  /* bit L set: a request at level L */
 int sim_irq_source(int level);
 void uart_feed(sim_t *s, const uint8_t *bytes, unsigned n);
 

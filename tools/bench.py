@@ -28,7 +28,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import perfscen as ps  # noqa: E402
-import pngplot  # noqa: E402
+import plot  # noqa: E402
 
 SECONDS = float(os.environ.get("BENCH_SECONDS", "20"))
 REPEAT = int(os.environ.get("BENCH_REPEAT", "5"))
@@ -91,11 +91,13 @@ def machine():
 
 def plot_move(path_png):
     csvp = os.path.join(ps.BUILD, "move-inc.csv")
+    tracep = os.path.join(ps.BUILD, "move-inc-a0.csv")      # the position at every tick (tools/plot.py)
     lines = ps.enable_lines("inc")
     lines += ["send 0 WPV 100", "send 0 WPA 10", "send 0 WPD 10", "send 0 WAP 8000", "send 0 MP",
-              "perf sample %s 0" % csvp, "send 0 E", "run 1300", "perf sample off"]
+              "perf sample %s 0" % csvp, "trace 0 %s tick card" % tracep, "send 0 E", "run 1300",
+              "perf sample off", "trace off"]
     ps.run("inc", "\n".join(lines) + "\n")
-    pngplot.plot(csvp, path_png, "MAC4-INC AXIS 1 (EMULATED): WAP 8000 WPV 100 WPA 10 WPD 10, DEFAULT PLANT")
+    plot.plot({0: tracep}, path_png, "MAC4-INC axis 1 (emulated): WAP 8000 WPV 100 WPA 10 WPD 10, default plant")
 
 
 def print_rows(rows, limit):

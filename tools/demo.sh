@@ -11,6 +11,7 @@ build/mac4sim --card inc --timestamps --script tools/demo.mac4 | awk '
     /^  / && $NF ~ /^[0-9]+%$/ { u = $NF + 0
         print $0 (u <= 100 ? "  met" : "  NOT MET yet (an aim: make bench)"); next }
     { print }'
-python3 tools/pngplot.py build/demo-move.csv build/demo-move.png "MAC4-INC AXIS 1 (WIRE 0, EMULATED): WAP 8000 WPV 100 WPA 10 WPD 10"
-echo "== plot of the move on the manual's axis 1 (send 0 ...): build/demo-move.png"
+python3 tools/plot.py build/demo-move.png build/demo-move-a{0,1,2,3}.csv \
+    --title "MAC4-INC (emulated), four axes: WAP 8000, -8000, 6000, -6000; WPV 100 WPA 10 WPD 10"
+echo "== plot of the four axes' moves: build/demo-move.png"
 

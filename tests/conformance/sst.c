@@ -36,6 +36,8 @@
 
 /* ---- the hooks harness/musashi_cnf.h names (cpu_m68k.c gives mac4sim's) -- */
 int mac4_profiling;
+int mac4_gdb_on;                                    /* no gdb stub here */
+int mac4_gdb_instr(unsigned pc) { (void)pc; return 0; }
 void mac4_profile_instr(unsigned pc) { (void)pc; }
 static unsigned nacks;
 int mac4_int_ack(int level) { (void)level; nacks++; return (int)M68K_INT_ACK_AUTOVECTOR; }

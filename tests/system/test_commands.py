@@ -43,8 +43,8 @@ def test_queue_entries_are_byte_exact():
 def _effective_range(card, c):
     lo, hi = c["range"][card]
     p = c["parameter"]
-    if p == "AP":
-        lo, hi = -1000000000, 1000000000             # the default software limits <ln>, <lp>
+    if p in ("AP", "AT"):
+        lo, hi = -1000000000, 1000000000             # targets: the default software limits <ln>, <lp>
     if p == "LV" and card == "stp":
         hi = 100                                     # at most <ssf> (default 100 Hz, 4.8.3)
     if p == "ET":
@@ -279,8 +279,8 @@ def test_watchdog_disables_all_axes_and_reports_164_once():
     r = run(cmds)
     got = r.resps()
     assert r.peek(0x4034) & obits("watch_f")
-    assert got[-4] == (1, 164, obits("watch_f"))           # next instruction gets the error
-    assert got[-3][1] == 163                               # then: not acknowledged
+    assert got[-4][1] == 125                               # a read is executed (6.3)
+    assert got[-3] == (1, 164, obits("watch_f"))           # the next other instruction gets the error
     assert got[-2][1] == 4
     assert got[-1] == (1, 124, 0)
     assert "D" in r.displays()
@@ -302,8 +302,9 @@ def test_emergency_stop():
     r = run(cmds, args=["--irq-level", "6"])
     got = r.resps()
     assert len(r.grep(r"^output \d en=0 ")) == 4
-    assert got[-8] == (3, 165, obits("h_stop"))
-    assert got[-7][1] == 163
+    assert got[-8][1] == 125                               # a read is executed (6.3)
+    assert got[-7] == (3, 165, obits("h_stop"))            # the next other instruction gets the error
+    assert got[-6][1] == 4
     assert got[-5][2] & obits("h_stop")                    # C cannot clear it while /STOP is on
     assert got[-3][2] & obits("h_stop") == 0
     assert [c for _, c, _ in got[-2:]] == [52, 3]

@@ -124,9 +124,10 @@ def test_absolute_value_beyond_ec_is_reported_once_then_the_host_recovers():
              (0, "RBS"), "run 20", (0, "C"), "run 20", (0, "C"), "run 20", (0, "DEINIT"), "run 20",
              (0, "UWEC", 10000), "run 20", (0, "INIT"), "run 20", (0, "RBS"), (0, "RCP")])
     got = r.resps()
-    assert [c for _, c, _ in got] == [178, 180, 184, 2, ERR_LOGICAL, 4, 4, 5, 184, 2, 125, 116]
-    err = got[4][2]
-    assert has(err, "encoder_f") and has(err, "logo_f") and err & 0xFF == MODE["disable"]
+    # the read is executed with the error bits (6.3); the first C gets the report and acknowledges it
+    assert [c for _, c, _ in got] == [178, 180, 184, 2, 125, ERR_LOGICAL, 4, 5, 184, 2, 125, 116]
+    for err in (got[4][2], got[5][2]):
+        assert has(err, "encoder_f") and has(err, "logo_f") and err & 0xFF == MODE["disable"]
     assert not has(got[-2][2], "encoder_f") and has(got[-2][2], "init")
     assert rcp(r) == [5000]
 
@@ -137,7 +138,8 @@ def test_missing_vme_encoder_reported_once_and_again_when_enabled():
              (0, "C"), "run 30", (0, "RBS"), "run 30", (0, "ME"), "run 30", (0, "E"), "run 30",
              (0, "RBS"), "run 30", (0, "C"), "run 30", (0, "DEINIT"), "run 30", (0, "RBS")])
     got = r.resps()
-    assert [c for _, c, _ in got] == [178, 180, 2, ERR_LOGICAL, 4, 125, 52, 3, ERR_LOGICAL, 4, 5, 125]
+    # reads executed (6.3), each report answered once, by the C that acknowledges it
+    assert [c for _, c, _ in got] == [178, 180, 2, 125, ERR_LOGICAL, 125, 52, 3, 125, ERR_LOGICAL, 5, 125]
     assert has(got[3][2], "encoder_f")
     assert not has(got[5][2], "encoder_f")             # acknowledged, not raised again while disabled
     assert has(got[8][2], "encoder_f")                 # enabled again: the next failure counts
@@ -175,7 +177,7 @@ def test_encoder_error_over_the_serial_line_can_be_acknowledged():
         lines += ["tx-msg 0 %s" % mn, "run 60"]
     r = run(lines)
     got = [m[1] for m in parse(rx_bytes(r))]
-    assert got == [ERR_LOGICAL, 4, 5, 125]
+    assert got == [125, ERR_LOGICAL, 5, 125]           # the read runs; C gets the report and clears it
 
 
 # ---- K3: relative measurement modulo <ec> ------------------------------------------
@@ -206,7 +208,7 @@ def test_relative_ec_power_of_two_below_2_eb():
 def test_relative_value_outside_ec_is_an_encoder_error():
     r = run(dpram_values([990, 1000]) + [(0, "RBS")], settle=20)
     got = r.resps()
-    assert [c for _, c, _ in got][-2:] == [ERR_LOGICAL, 125] and has(got[-1][2], "encoder_f")
+    assert [c for _, c, _ in got][-2:] == [116, 125] and has(got[-1][2], "encoder_f")   # reads run (6.3)
 
 
 def test_relative_vme_encoder_turning_through_its_wrap():
@@ -276,7 +278,7 @@ def test_ssi_stuck_at_ones_outside_ec_disables_without_ramp():
     r = run(["plant 0 ssi bits 12 binary res 4096", "counter 0 100", (0, "UWSC", 14), (0, "UWET", 2),
              (0, "UWEC", 4000), (0, "WAA", 1), (0, "INIT"), (0, "ME"), (0, "E"), "run 20",
              (0, "WVT", 20), (0, "MS"), (0, "E"), "run 300", "fault 0 encoder stuck1", "run 3", "outputs",
-             (0, "RBS"), (0, "RBS"), (0, "RCP"), (0, "RED")], "ssi")
+             (0, "RBS"), (0, "ME"), (0, "RCP"), (0, "RED")], "ssi")
     got = r.resps()
     err = [p for _, c, p in got if c == ERR_LOGICAL]
     assert len(err) == 1 and has(err[0], "encoder_f") and not has(err[0], "ferr_f")

@@ -5,7 +5,9 @@ the reaction the manual gives (sections 2.1.3, 2.5.1, 3.5.1, 4.6, 4.7, 4.8,
 
 * the end state of every axis involved: mode, dr_en, status and error bits,
   the outputs (enable and DAC / step rate), the LEDs and the display;
-* the error code, answered exactly once on the next command (on the axis,
+* reads executed while the error waits, the status read showing its bits
+  (6.3: "read commands are an exception, these are always executed"); the
+  error code answered exactly once, on the next other command (on the axis,
   or on any axis for the card's own errors 164/165), every other command
   refused with 163 until C, and the error bits cleared by C;
 * every command sent is answered exactly once, in order and none twice (or,
@@ -721,10 +723,8 @@ MATRIX = [
     Row("enc-jump", "encoder jumps by more than <mf> during a move", ALL, "4.8.1, 6.3.9",
         b_jump("fault 0 encoder jump 1000", "fault 0 encoder jump 8000"), err=("axis", 163, ub("ferr_f")),
         state={0: ("disable", ("ferr_f",)), 1: ("enable", ())}, after={0: ("disable", ())},
-        leds={"D": (0,)}, timing=(((0,), {"off"}, 2),),
-        known=known((ReactionLate,), "STP: the <ed> ramp begins in the next tick, but from this speed it "
-                    "needs a second one before the stepper may stop from <ssf> (5.14), so the disable shows "
-                    "3 ticks (24 ms) after the jump; the bound of 2 assumes a stop in one step", ("stp",))),
+        # INC/SSI: the loop brakes the mechanics to rest in the jumped frame before /EN opens
+        leds={"D": (0,)}, timing=(((0,), RAMP, 2),)),
     Row("ssi-stuck0", "SSI data line stuck at 0 during a move", ("ssi",), "4.8.1, 6.3.9",
         b_jump("fault 0 encoder stuck0"), err=("axis", 163, ub("ferr_f")),
         state={0: ("disable", ("ferr_f",)), 1: ("enable", ())}, after={0: ("disable", ())},
@@ -741,7 +741,7 @@ MATRIX = [
     Row("watchdog", "the host stops sending (watchdog <wd>), all axes moving", ALL, "4.7, 6.3.6, 4.8.2",
         b_watchdog, err=("card", 164, ob("watch_f")),
         state={n: ("disable", ()) for n in AXES4}, after={0: ("disable", ())},
-        display="D", leds={"D": AXES4}, timing=((AXES4, RAMP, 2),)),
+        display="D", leds={"D": AXES4}, timing=((AXES4, RAMP | {"fall"}, 2),), at_rest=(0, 1)),
     Row("stop-bits", "stop bits of axes 1-3 set every tick (axis 3 in test mode)", ALL, "3.5.1",
         b_stop_bits,
         state={0: ("brake", ()), 1: ("brake", ()), 2: ("disable", ()), 3: ("speed", ())},
@@ -776,13 +776,19 @@ MATRIX = [
 def add_probe(s, row):
     where, ecode, _ = row.err or (None, None, None)
     s.mark("probe")
-    # 1. a command on another axis: gets the card's own error, never an axis' error
-    s.send(1, "RBS", expect=ecode if where == "card" else RBS, tag="p1")
+    # 1. reads are always executed (6.3), an error waiting or not: the status
+    #    read on the axis shows the error bits, the overall status the card's
+    s.send(1, "RBS", tag="p1")
+    s.send(0, "RBS", tag="p2")
+    s.send(1, "RAS", tag="pras")
     s("run 5")
-    # 2. the next command on the axis: the axis' error, in place of the command
-    s.send(0, "RBS", expect=ecode if where == "axis" else RBS, tag="p2")
-    s("run 5")
-    # 3. once: a read now runs (6.3: reads are always executed)
+    # 2. the next other command gets the error, in place of its own answer, and
+    #    is not executed: on the axis, or for the card's own errors on any axis
+    #    (an ME: it only selects a mode, and the probe's next ME selects it again)
+    if where in ("axis", "card"):
+        s.send(1 if where == "card" else 0, "ME", expect=ecode, tag="report")
+        s("run 5")
+    # 3. once: a read runs
     s.send(0, "RBS", tag="again")
     for n in sorted(row.state):
         if n:
@@ -985,11 +991,15 @@ def run_variant(row, card, v, info):
 
     if row.probe:
         where, ecode, ebits = row.err or (None, None, 0)
-        rep = out.by_tag["p1" if where == "card" else "p2"]
         if where in ("axis", "card"):
+            rep = out.by_tag["report"]
             chk(rep[3] & ebits == ebits, "error %d reported with 0x%08X, bits 0x%X missing" % (ecode, rep[3], ebits))
+            polled = out.by_tag["p2" if where == "axis" else "pras"][3]
+            chk(polled & ebits == ebits, "the status read before the report: 0x%08X, bits 0x%X missing" % (
+                polled, ebits))
         if where == "axis":
             ustat_is(chk, "reported status", rep[3], row.state[0][0], row.state[0][1])
+            ustat_is(chk, "status read", out.by_tag["p2"][3], row.state[0][0], row.state[0][1])
         if where == "self":
             mr = out.by_tag["mr"]
             chk(mr[3] & ebits == ebits, "MR answered with 0x%08X" % mr[3])

@@ -213,19 +213,32 @@ def test_find_edge_reference_and_negative_limit():
 def test_following_error_stalled_motor():
     r = go(axis(INIT_EN) + ["run 20", "plant 0 motor coulomb 100", "send 0 WMF 500"] + MOVE +
            ["send 0 WAP 20000", "send 0 MP", "send 0 E"] + watch(count=150) + ["send 0 RBS", "send 0 ME",
-                                                                               "run 5"])
+                                                                               "send 0 ME", "run 5"])
     st, ps = samples(r)
     assert has(st[-1], "ferr_f") and mode(st[-1]) == MODE["disable"]
     got = r.resps()
+    assert got[-3][1] == 125 and has(got[-3][2], "ferr_f")   # a read runs and shows the error (6.3)
     assert got[-2][1] == 163 and got[-1][1] == 163        # reported, then not acknowledged
 
 
 def test_software_limit_brakes_and_disables():
-    r = go(["send 0 UWLP 5000"] + axis(INIT_EN) + ["run 20", "send 0 WVT 50", "send 0 MS", "send 0 E"] +
-           watch(count=200) + ["send 0 RBS", "run 5"])
+    # find edge towards a reference switch that is not there leaves <lp> (4.3.1.1)
+    r = go(["send 0 UWLP 5000", "switch 0 ref 100000 100"] + axis(INIT_EN) +
+           ["run 20", "send 0 WFV 50", "send 0 WFA 5", "send 0 WDL 0", "send 0 MF", "send 0 E"] +
+           watch(count=200) + ["send 0 RBS", "send 0 ME", "run 5"])
     st, ps = samples(r)
     assert mode(st[-1]) == MODE["disable"] and has(st[-1], "swl_p")
-    assert r.resps()[-1][1] == 163
+    assert [c for _, c, _ in r.resps()[-2:]] == [125, 163]
+
+
+def test_speed_mode_brakes_to_stay_within_the_software_limit():
+    # 6.3.3: a speed move towards <lp> is braked with <pd> onto it, no error
+    r = go(["send 0 UWLP 5000"] + axis(INIT_EN) + ["run 20", "send 0 WVT 50", "send 0 MS", "send 0 E"] +
+           watch(count=200) + ["send 0 RBS", "send 0 WVT -50", "send 0 E"] + watch(count=50))
+    st, ps = samples(r)
+    assert mode(st[199]) == MODE["speed"] and not st[199] & 0x7FFF0000 & ~(1 << 25)
+    assert 4900 <= max(ps[:200]) <= 5000 and abs(ps[199] - ps[190]) <= 2
+    assert ps[-1] < ps[199] - 300                          # and away from it again
 
 
 def test_hardware_limit_stops_into_the_switch_not_out():
@@ -236,16 +249,16 @@ def test_hardware_limit_stops_into_the_switch_not_out():
     stopped = st[199]
     assert mode(stopped) == MODE["brake"] and has(stopped, "hwl_p")
     assert ps[199] < 4000 + 1500                           # emergency ramp <ed>
-    assert [c for _, c, _ in r.resps()][-5:-3] == [163, 4]
+    assert [c for _, c, _ in r.resps()][-5:-3] == [125, 163]   # the read runs; C gets the report
     assert ps[-1] < ps[199] - 500                          # and out again
 
 
 def test_drive_fault():
     r = go(axis(INIT_EN) + ["run 20", "send 0 WIRQ3 0x33", "send 0 WVT 30", "send 0 MS", "send 0 E", "run 300",
-                            "fault 0 drive on"] + watch(count=80) + ["send 0 RBS", "run 5"])
+                            "fault 0 drive on"] + watch(count=80) + ["send 0 RBS", "send 0 ME", "run 5"])
     st, ps = samples(r)
     assert mode(st[-1]) == MODE["disable"] and has(st[-1], "dr_f")
-    assert r.resps()[-1][1] == 163
+    assert [c for _, c, _ in r.resps()[-2:]] == [125, 163]
     assert r.grep(r"^vme-irq 3 51$")
 
 
@@ -258,12 +271,14 @@ def test_emergency_stop_while_moving():
 
 def test_watchdog_while_moving_ramps_and_disables():
     r = go(axis(INIT_EN) + ["run 20", "send 0 WAA 20", "send 0 WVT 40", "send 0 MS", "send 0 E", "run 200",
-                            "send 0 WWD 100"] + watch(count=100) + ["send 0 RBS", "run 5"])
+                            "send 0 WWD 100"] + watch(count=100) + ["send 0 RBS", "send 0 ME", "run 5"])
     st, ps = samples(r)
     assert mode(st[-1]) == MODE["disable"]
-    assert r.resps()[-1][1] == 164
-    # it braked with <ed> = 20 Inc/SP^2 from 40 Inc/SP: about 2 SP, not at once
-    assert ps[-1] > ps[30]
+    assert [c for _, c, _ in r.resps()[-2:]] == [125, 164]
+    # it braked with <ed> = 20 Inc/SP^2 from 40 Inc/SP (about 2 SP, 40 Inc, not at once) to rest
+    # under control before /EN opened: it stands from then on
+    fired = next(k for k in range(len(st)) if st[k] & 0xFF == MODE["disable"])
+    assert ps[fired] - ps[9] >= 40 and ps[-1] - ps[fired] <= 10 and ps[-1] == ps[fired + 10]
 
 
 # ---- MAC4-SSI -------------------------------------------------------------------

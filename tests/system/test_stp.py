@@ -237,8 +237,8 @@ def test_turbo_multiplies_velocities_by_10():
     assert p[0]["lost"] == 0 and p[1]["lost"] == 0
     ss = resp(r, RSS)
     assert ss[0] & sb("turbo") and not ss[1] & sb("turbo")
-    rout = resp(r, ROUT)                                # Hz
-    assert abs(rout[0] - 1200) <= 10 and abs(rout[1] - 120) <= 1
+    rout = resp(r, ROUT)                                # Steps/SP (table 6.2): Hz x 32 ms
+    assert abs(rout[0] - 38) <= 1 and abs(rout[1] - 4) <= 1
     assert 163 in codes(r)                              # TURBO only at stand-still
 
 
@@ -286,8 +286,9 @@ def test_encoder_ratios_are_exact_at_init():
 
 
 def test_br_must_match_the_encoder_type():
-    r = go(["br 0 encoder", "send 0 INIT", "send 0 RBS", "run 5"])
-    assert codes(r)[-1] == 163                          # <et> 0 counts steps: BR must be closed
+    r = go(["br 0 encoder", "send 0 INIT", "send 0 RBS", "send 0 ME", "run 5"])
+    assert codes(r)[-2:] == [RBS, 163]                  # <et> 0 counts steps: BR must be closed
+    assert resp(r, RBS)[-1] & ub("encoder_f")           # the read runs and shows it (6.3)
     st = resp(r, 163)[-1]
     assert st & ub("encoder_f")
 
@@ -299,8 +300,8 @@ def test_following_error_with_a_stalled_motor():
     beyond <mf>, the axis ramps down with <ed> and is disabled (4.8.1)."""
     r = go(["stepper 0 ssf 50", "br 0 encoder", "send 0 UWET 1", "send 0 UWES 1000", "send 0 WMF 200",
             "send 0 INIT"] + ENABLE + ["send 0 WPV 2000", "send 0 WPA 500", "send 0 WPD 500"] +
-           positioning(20000, 1500) + ["send 0 RBS", "send 0 RSS", "run 5", "leds", "plant 0"])
-    assert codes(r)[-2] == 163
+           positioning(20000, 1500) + ["send 0 RBS", "send 0 ME", "send 0 RSS", "run 5", "leds", "plant 0"])
+    assert codes(r)[-3:-1] == [RBS, 163]
     bs = resp(r, 163)[-1]
     assert bs & ub("ferr_f") and bs & 0xFF == MODE["disable"]
     assert resp(r, RSS)[-1] & sb("led_fault")
@@ -337,17 +338,31 @@ def test_hardware_limit_switch_brakes_with_ed_and_holds():
 
 
 def test_software_limit_stops_and_disables():
-    r = go(["send 0 UWLP 3000", "send 0 UWLN 0", "send 0 INIT"] + ENABLE +
-           ["send 0 WVT 400", "send 0 VT", "send 0 E", "run 15000", "send 0 RBS", "plant 0", "run 5"])
-    assert codes(r)[-1] == 163
+    # find edge towards a reference switch that is not there leaves <lp> (4.3.1.1)
+    r = go(["switch 0 ref 100000 100", "send 0 UWLP 3000", "send 0 UWLN 0", "send 0 INIT"] + ENABLE +
+           ["send 0 WFV 400", "send 0 WDL 0", "send 0 MF", "send 0 E", "run 15000", "send 0 RBS", "send 0 ME",
+            "plant 0", "run 5"])
+    assert codes(r)[-2:] == [RBS, 163]
     bs = resp(r, 163)[-1]
     assert bs & ub("swl_p") and bs & 0xFF == MODE["disable"]
-    assert 3000 < plants(r)[0]["pos"] < 3100
+    assert 3000 < plants(r)[0]["pos"] < 3100 and plants(r)[0]["lost"] == 0
+
+
+def test_velocity_tracking_is_braked_to_stay_within_the_software_limit():
+    # 6.3.3: braked with <ed> onto <lp>, no error; away from it again when <vt> turns
+    r = go(["send 0 UWLP 3000", "send 0 UWLN 0", "send 0 INIT"] + ENABLE +
+           ["send 0 WVT 400", "send 0 VT", "send 0 E", "run 15000", "send 0 RBS", "plant 0", "send 0 WVT -400",
+            "run 2000", "plant 0", "run 5"])
+    bs = resp(r, RBS)[-1]
+    assert bs & 0xFF == MODE["velocity tracking"] and not bs & (ub("swl_p") | ub("logo_f"))
+    p = plants(r)
+    assert 2990 <= p[0]["pos"] <= 3000 and p[0]["lost"] == 0
+    assert p[1]["pos"] < p[0]["pos"] - 300
 
 
 def test_drive_fault_stops_the_axis_and_interrupts():
     r = go(MOTOR_7_2 + EXAMPLE_7_2 + ENABLE + MOVE_7_2 + ["send 0 WAP 5000", "send 0 MP", "send 0 E", "run 3000",
-                                                            "fault 0 drive on", "run 2000", "send 0 RBS",
+                                                            "fault 0 drive on", "run 2000", "send 0 ME",
                                                             "outputs", "run 5"], args=["--irq-level", "3"])
     assert codes(r)[-1] == 163
     bs = resp(r, 163)[-1]
@@ -359,7 +374,7 @@ def test_drive_fault_stops_the_axis_and_interrupts():
 def test_emergency_stop_disables_at_once():
     r = go(MOTOR_7_2 + EXAMPLE_7_2 + ENABLE + MOVE_7_2 + ["send 0 WAP 5000", "send 0 MP", "send 0 E", "run 3000",
                                                             "plant 0", "estop on", "run 10", "outputs", "plant 0",
-                                                            "send 0 RBS", "run 5"])
+                                                            "send 0 ME", "run 5"])
     assert codes(r)[-1] == 165
     assert r.grep(r"^output 0 en=0 dac=0 rate=0 .*boost=0")
     p = plants(r)
@@ -369,7 +384,7 @@ def test_emergency_stop_disables_at_once():
 def test_watchdog_ramps_and_disables():
     r = go(MOTOR_7_2 + EXAMPLE_7_2 + ENABLE + MOVE_7_2 + ["send 0 WAP 5000", "send 0 MP", "send 0 E", "run 3000",
                                                             "send 0 WAA 25", "send 0 WWD 100", "run 3000",
-                                                            "send 0 RBS", "plant 0", "outputs", "run 5"])
+                                                            "send 0 ME", "plant 0", "outputs", "run 5"])
     assert codes(r)[-1] == 164
     assert r.grep(r"^output 0 en=0 dac=0 rate=0 ")
     p = plants(r)[0]
@@ -434,7 +449,7 @@ def test_test_mode_outputs_da_in_hz_usr_has_no_effect():
             "send 0 ROUT", "send 0 MD", "send 0 E", "run 50", "outputs", "run 5"])
     p = plants(r)[0]
     assert abs(p["field"] + 500) < 1
-    assert resp(r, ROUT) == [-500]
+    assert resp(r, ROUT) == [-16]                       # Steps/SP (table 6.2): -500 Hz x 32 ms
     assert r.grep(r"^output 0 en=0 dac=0 rate=0 ")
 
 
