@@ -59,6 +59,13 @@ static void usage(FILE *f)
             "Exit status: 0 ok, 1 usage or script error, 3 emulator faults seen.\n");
 }
 
+/* A TCP port on 127.0.0.1 in decimal, 0..65535 (0: any free one); -1 if not. */
+static int tcp_port(const char *val)
+{
+    char *end;
+    long p = strtol(val, &end, 10);
+    return end == val || *end || p < 0 || p > 65535 ? -1 : (int)p;
+}
 
 int main(int argc, char **argv)
 {
@@ -120,35 +127,31 @@ int main(int argc, char **argv)
                 i++;
             }
         } else if (!strcmp(a, "--serial-tcp") && val) {
-            char *end;
-            long port = strtol(val, &end, 10);
-            if (end == val || *end || port < 0 || port > 65535 || serial.kind == SERIAL_CONN_PTY) {
+            int port = tcp_port(val);
+            if (port < 0 || serial.kind == SERIAL_CONN_PTY) {
                 fprintf(stderr, "mac4sim: bad --serial-tcp '%s' (a port 0..65535, 0: any; "
                         "not with --serial-pty)\n", val);
                 return 1;
             }
             serial.kind = SERIAL_CONN_TCP;
-            serial.tcp_port = (int)port;
+            serial.tcp_port = port;
             i++;
         } else if (!strcmp(a, "--serial-log") && val) {
             serial.log = val;
+            i++;
         } else if (!strcmp(a, "--gdb") && val) {
-            char *end;
-            long p = strtol(val, &end, 10);
-            if (end == val || *end || p < 0 || p > 65535 || mac4sim_native_cpu) {
+            gdb_port = tcp_port(val);
+            if (gdb_port < 0 || mac4sim_native_cpu) {
                 fprintf(stderr, "mac4sim: bad --gdb '%s' (a port 0..65535; the 68000 build only)\n", val);
                 return 1;
             }
-            gdb_port = (int)p;
             i++;
         } else if (!strcmp(a, "--panel") && val) {
-            char *end;
-            long p = strtol(val, &end, 10);
-            if (end == val || *end || p < 0 || p > 65535) {
+            panel_port = tcp_port(val);
+            if (panel_port < 0) {
                 fprintf(stderr, "mac4sim: bad --panel '%s' (a port 0..65535)\n", val);
                 return 1;
             }
-            panel_port = (int)p;
             i++;
         } else if (!strcmp(a, "--serve-seconds") && val) {
             char *end;
