@@ -151,10 +151,16 @@ void motion_hold(unsigned n)
  * generator takes over again once the tick stands (motion_profile_tick). */
 static void brake_now(axis_t *x, int64_t dec_sp)
 {
-    if (x->braking)
-        return;
     int64_t dec = dec_sp >> 4;
-    x->br_dec = dec < 1 ? 1 : dec > INT32_MAX ? INT32_MAX : (int32_t)dec;
+    int32_t d = dec < 1 ? 1 : dec > INT32_MAX ? INT32_MAX : (int32_t)dec;
+    if (x->braking) {
+        /* a stop during a brake (a limit switch or a following error while
+         * a stop bit brakes with <pd>): the stronger ramp from here */
+        if (d > x->br_dec)
+            x->br_dec = d;
+        return;
+    }
+    x->br_dec = d;
 #if MAC4_CARD != MAC4_CARD_STP
     int64_t pos = (int64_t)x->setpoint * 65536;
     int32_t v = x->sp_vel / 4;
@@ -284,6 +290,7 @@ void motion_emergency(unsigned n, uint8_t then)
         x->stop_f0 = x->stop_flast = e;
         x->stop_vlast = 0;
         x->stop_grow = 0;
+        x->stop_ferr = 0;
         x->stop_ticks = 0;
         x->stop_rest = 0;
         x->stop_limit = 0;
@@ -517,7 +524,11 @@ static int stop_watch(axis_t *x, unsigned n)
         if (!over && x->stop_ticks <= x->stop_limit)
             return 0;
     }
-    axis_error(n, UB(FERR_F), ERR_LOGICAL);      /* runaway or too slow: open /EN now */
+    /* runaway or too slow: open /EN now, a following error - but not a
+     * second one when the stop is the following error's own reaction: that
+     * was raised once, and a C during the braking has acknowledged it */
+    if (!x->stop_ferr)
+        axis_error(n, UB(FERR_F), ERR_LOGICAL);
     stop_done(n);
     return 1;
 }
@@ -809,6 +820,7 @@ void motion_supervise(unsigned n)
         if (x->ferr > mf || x->ferr < -mf) {     /* 4.8.1, 6.3.9 */
             axis_error(n, UB(FERR_F), ERR_LOGICAL);
             motion_emergency(n, STOP_DISABLE);
+            x->stop_ferr = 1;                    /* raised once: its guard raises nothing more */
         } else if (x->linear && (x->pos > x->lp || x->pos < x->ln)) {
             x->ustat |= x->pos > x->lp ? UB(SWL_P) : UB(SWL_N);
             axis_error(n, UB(LOGO_F), ERR_LOGICAL);   /* 4.3.1.1: braked and disabled; C first (6.3) */
