@@ -830,7 +830,12 @@ void motion_supervise(unsigned n)
              * every mode (test mode: card.c); find edge may run into the one
              * limit switch it looks for (<dl> 1, 2), to its edge */
             int64_t v = x->prof.vel;
-            uint32_t into = x->ustat & (v > 0 ? UB(HWL_P) : v < 0 ? UB(HWL_N) : 0);
+            int dir = v > 0 ? 1 : v < 0 ? -1 : 0;
+#if MAC4_CARD == MAC4_CARD_STP
+            if (!dir)
+                dir = stp_creep_dir(n);          /* the creep phase's pulses (5.6): the profile stands */
+#endif
+            uint32_t into = x->ustat & (dir > 0 ? UB(HWL_P) : dir < 0 ? UB(HWL_N) : 0);
             if (x->mode == M_FIND_EDGE) {
                 int32_t dl = PAR(n, DL);
                 into &= ~(dl == 1 ? UB(HWL_N) : dl == 2 ? UB(HWL_P) : 0);

@@ -86,3 +86,18 @@ def test_a_limit_switch_during_a_stop_bit_brake_takes_the_ed_ramp():
         assert rbs[2] & 0xFF == MODE["brake"] and rbs[2] & ub("hwl_p", "logo_f") == ub("hwl_p", "logo_f"), hex(rbs[2])
         assert me[1] == 163 and rbs2[1] == code("RBS")
         print("STOP-BIT then HWL %s: switch at %d, at rest at %.0f" % (card, sw, rest))
+
+
+def test_the_stp_creep_phase_stops_at_a_limit_switch():
+    """MAC4-STP positioning to 1000 with a creep phase of 400 steps at <lv>
+    (5.6): the profile stands while the down-counter sends the creep's
+    pulses.  The positive limit switch at 800 lies within the creep: the
+    pulses stop there (hwl_p, mode brake, 163), not at the target."""
+    r = run(["switch 0 lp 800", "send 0 INIT", "send 0 ME", "send 0 E", "run 20", "send 0 WSTC 400", "send 0 WLV 100",
+             "send 0 WPV 2000", "send 0 WPA 500", "send 0 WPD 500", "send 0 WAP 1000", "send 0 MP", "send 0 E",
+             "run 6000", "plant 0", "send 0 RBS", "send 0 ME", "run 5"], "stp")
+    p = r.grep(r"^plant 0 ")[0]
+    assert " vel=0.0 " in p and " lost=0 " in p and 800 <= plant_pos(p) <= 802, p
+    rbs, me = r.resps()[-2:]
+    assert rbs[2] & 0xFF == MODE["brake"] and rbs[2] & ub("hwl_p", "logo_f") == ub("hwl_p", "logo_f"), hex(rbs[2])
+    assert not rbs[2] & ub("pos_end") and me[1] == 163
