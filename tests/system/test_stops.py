@@ -91,6 +91,43 @@ def m_search_coarse(card, v):
     return ["send 0 WCV %d" % v, "send 0 WCA %d" % acc, "send 0 WCD %d" % acc, "send 0 MC", "send 0 E"]
 
 
+def m_search_index(card, v):
+    # at <lv> in the direction of <cv> (5.8), no ramp; the index far ahead as for search-coarse
+    return ["send 0 WCV 1", "send 0 WLV %d" % v, "send 0 MI", "send 0 E"]
+
+
+def m_pos_track(card, v):
+    # 5.12: the host streams the targets, one WAT per SP (PosTrack.run); E with the first
+    return ["send 0 WAT 0", "send 0 PT", "send 0 E"]
+
+
+def m_off_fly(card, v):
+    # positioning off-fly (5.15): the axis' other commands wait for the end of the move, so a stop
+    # can come only from the card itself, a switch, a stop bit or the emergency stop
+    return ["send 0 FLYOFF"] + m_positioning(card, v)
+
+
+class PosTrack:
+    """The host of position tracking: a WAT every SP, the target's step
+    growing in eight SPs to v per SP (STP: v Hz as steps per SP), so the
+    motor follows from stand-still; the steps continue through the stop."""
+
+    def __init__(self, card, v):
+        self.sp = SP_MS[card]
+        self.v = v * STP_STEPS_SP if card == "stp" else v
+        self.k, self.t, self.left = 0, 0.0, 0.0
+
+    def run(self, ms):
+        out = []
+        self.left += ms
+        while self.left >= self.sp:
+            self.k += 1
+            self.t += self.v * min(self.k, 8) / 8
+            out += ["send 0 WAT %d" % round(self.t), "run %g" % self.sp]
+            self.left -= self.sp
+        return out
+
+
 MODES = {
     "speed": (m_speed, ("inc", "ssi", "stp")),
     "positioning": (m_positioning, ("inc", "ssi", "stp")),
@@ -98,8 +135,14 @@ MODES = {
     "find-edge": (m_find_edge, ("inc", "ssi", "stp")),
     "home": (m_home, ("inc",)),                      # needs the index at P2 (<et> 1): INC, STP with encoder
     "search-coarse": (m_search_coarse, ("inc",)),
+    "search-index": (m_search_index, ("inc",)),
+    "pos-track": (m_pos_track, ("inc", "ssi", "stp")),
+    "off-fly": (m_off_fly, ("inc", "ssi", "stp")),
 }
-JUSTIFY = ("find-edge", "home", "search-coarse")
+JUSTIFY = ("find-edge", "home", "search-coarse", "search-index")
+# the causes that are commands: off-fly holds them until the move ends (5.15); the host that
+# streams position-tracking targets keeps the watchdog from expiring
+BY_COMMAND = ("mre", "deinit", "watchdog")
 
 # ---- the causes --------------------------------------------------------------------
 # kind: "rest" disables with the mechanics at rest (STP: ramp to <ssf>, off), "hold" stands in mode
@@ -107,11 +150,12 @@ JUSTIFY = ("find-edge", "home", "search-coarse")
 AHEAD = {"inc": 5000, "ssi": 5000, "stp": 2000}    # where a switch or limit lies ahead of the run-up
 # search index coarse: the index of the default encoder at increment 3999, so the run-up is short,
 # the switch or limit closer and the axis stands before the index
-RUNUP = {"search-coarse": 100}
+RUNUP = {"search-coarse": 100, "search-index": 100}
+SEARCH = ("search-coarse", "search-index")
 
 
 def ahead_of(card, mode):
-    return 2500 if mode == "search-coarse" else AHEAD[card]
+    return 2500 if mode in SEARCH else AHEAD[card]
 
 
 def stop_ramp(card, mode, cause):
@@ -119,15 +163,34 @@ def stop_ramp(card, mode, cause):
     if cause.name != "stop-bit":
         return ED_STP if card == "stp" else ED
     if card == "stp":
-        return 500 if mode in ("speed", "positioning", "find-edge") else 1000
-    return 20 if mode == "positioning" else 100
+        return 500 if mode in ("speed", "positioning", "find-edge", "off-fly") else 1000
+    return 20 if mode in ("positioning", "off-fly") else 100
 
 
 class Cause:
-    def __init__(self, name, kind, report, setup=(), inject=(), modes=None, mode_after="disable", bits=()):
+    def __init__(self, name, kind, report, setup=(), inject=(), modes=None, mode_after="disable", bits=(),
+                 per_card=None):
         self.name, self.kind, self.report = name, kind, report
         self.setup, self.inject, self.modes = setup, inject, modes
         self.mode_after, self.bits = mode_after, bits
+        self.per_card = per_card or {}           # card -> (setup, inject) in place of the common ones
+
+    def setup_on(self, card):
+        return self.per_card[card][0] if card in self.per_card else self.setup
+
+    def inject_on(self, card):
+        return self.per_card[card][1] if card in self.per_card else self.inject
+
+
+# 6.3.8 at speed: INC and STP read an absolute encoder board over the VMEbus (<et> 4) that then
+# stops answering (a bus error on every read); the SSI encoder's data line sticks at 1, which in
+# Gray code decodes beyond <ec> = 2^23
+VME_ENC = ["send 0 UWET 4", "send 0 UWEA 0x80C000", "send 0 UWEB 24"]
+ENCODER_LOSS = {
+    "inc": (["vme-encoder 0x80C000 0 bits 24 res 4000 turns 0"] + VME_ENC, ["vme-encoder 0x80C000 off"]),
+    "stp": (["vme-encoder 0x80C000 0 bits 24 res 500 turns 0 shaft motor"] + VME_ENC, ["vme-encoder 0x80C000 off"]),
+    "ssi": (["send 0 UWEC 8388608"], ["fault 0 encoder stuck1"]),
+}
 
 
 CAUSES = [
@@ -142,6 +205,8 @@ CAUSES = [
     Cause("ferr", "rest", ("axis", 163, ub("ferr_f")), inject=("plant 0 motor coulomb 100",), bits=("ferr_f",)),
     Cause("drive", "coast", ("axis", 163, ub("dr_f")), inject=("fault 0 drive on",), bits=("dr_f",)),
     Cause("estop", "coast", ("card", 165, 0), inject=("estop on",)),
+    Cause("encoder", "coast", ("axis", 163, ub("encoder_f", "logo_f")), per_card=ENCODER_LOSS,
+          modes=("speed", "positioning", "vel-track", "find-edge", "pos-track", "off-fly"), bits=("encoder_f",)),
 ]
 
 
@@ -165,11 +230,11 @@ def run_stop(tmp_path, card, mode, cause, v=None, extra=(), runup_ms=None):
     fn, _ = MODES[mode]
     path = str(tmp_path / ("%s-%s-%s.csv" % (card, mode, cause.name)))
     ahead = ahead_of(card, mode)
-    setup = [l.replace("AHEAD", str(ahead)) for l in cause.setup]
-    sys_setup = [l for l in setup if l.startswith(("send 0 UW", "switch"))]
+    setup = [l.replace("AHEAD", str(ahead)) for l in cause.setup_on(card)]
+    sys_setup = [l for l in setup if l.startswith(("send 0 UW", "switch", "vme-encoder", "plant"))]
     mode_setup = [l for l in setup if l not in sys_setup]
-    lines = [BOOT.strip()] + [l for l in sys_setup if l.startswith("switch")] + pre(card) + list(extra)
-    if mode == "search-coarse":
+    lines = [BOOT.strip()] + [l for l in sys_setup if not l.startswith("send")] + pre(card) + list(extra)
+    if mode in SEARCH:
         lines.append("plant 0 encoder index 3999")
     lines += [l for l in sys_setup if l.startswith("send")]
     if card == "stp":
@@ -177,13 +242,29 @@ def run_stop(tmp_path, card, mode, cause, v=None, extra=(), runup_ms=None):
     lines += ["send 0 INIT", "send 0 ME", "send 0 E", "run 20"] + mode_setup
     # the run-up: the move at speed well before the switch or limit ahead
     run_up = runup_ms or RUNUP.get(mode, 300 if card != "stp" else 600)
-    lines += fn(card, v) + ["run %d" % run_up, "send 0 RFE", "run 1", "plant 0"]
-    lines += ["trace 0 %s tick" % path]
-    lines += list(cause.inject) + ["run 1500" if card == "stp" else "run 600", "trace off", "plant 0"]
+    host = PosTrack(card, v) if mode == "pos-track" else None
+
+    def run(ms):
+        return host.run(ms) if host else ["run %d" % ms]
+    lines += fn(card, v) + run(run_up) + ["send 0 RFE", "run 1", "plant 0"]
+    lines += ["trace 0 %s tick" % path, "echo @inject"]
+    lines += list(cause.inject_on(card)) + run(1500 if card == "stp" else 600) + ["trace off", "plant 0"]
     lines += ["send 0 RBS", "send 0 RAS", "send 0 ME", "send 0 RBS", "run 5"]
     r = sim("\n".join(lines) + "\n", card)
     assert r.rc == 0, r.stderr
     return trace_rows(path), r
+
+
+def errors_after_inject(r):
+    """(code, parameter) of the error answers 160-165 after the injection, in order."""
+    k = r.lines.index("@inject")
+    out = []
+    for l in r.lines[k:]:
+        if l.startswith("resp "):
+            _, _, c, p = l.split()
+            if 160 <= int(c) <= 165:
+                out.append((int(c), int(p, 16)))
+    return out
 
 
 def ferr_at_speed(r):
@@ -196,6 +277,8 @@ def cases():
     for cause in CAUSES:
         for mode, (_, cards) in MODES.items():
             if cause.modes and mode not in cause.modes:
+                continue
+            if cause.name in BY_COMMAND and mode in ("off-fly", "pos-track"):
                 continue
             for card in cards:
                 if cause.name == "ferr" and card == "stp":
@@ -246,12 +329,18 @@ def test_stop_sweep(tmp_path, card, mode, cause):
     assert st & 0xFF == MODE[cause.mode_after], (hex(st), cause.mode_after)
     for b in cause.bits:
         assert st & ub(b), (b, hex(st))
+    errs = errors_after_inject(r)
     if cause.report:
         where, ecode, bits = cause.report
-        assert me[1] == ecode and me[2] & bits == bits, me                # the report, once
+        # the report, once: the first other command after the event gets it (position tracking:
+        # a streamed WAT), every later one 163 until C (6.3.7)
+        assert errs and errs[0][0] == ecode and errs[0][1] & bits == bits, errs
+        assert all(c == 163 for c, _ in errs[1:]), errs
+        if mode != "pos-track":
+            assert len(errs) == 1 and me[1] == ecode, (errs, me)
         assert st & ub("ferr_f") == (ub("ferr_f") if "ferr_f" in cause.bits else 0), hex(st)
     else:
-        assert me[1] == code("ME"), me
+        assert errs == [] and me[1] == code("ME"), (errs, me)
         assert not st & (ub("ferr_f") | ub("logo_f")), hex(st)           # a clean stop
     if cause.name == "deinit":
         assert not st & ub("init")
