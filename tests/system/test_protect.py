@@ -101,3 +101,21 @@ def test_the_stp_creep_phase_stops_at_a_limit_switch():
     rbs, me = r.resps()[-2:]
     assert rbs[2] & 0xFF == MODE["brake"] and rbs[2] & ub("hwl_p", "logo_f") == ub("hwl_p", "logo_f"), hex(rbs[2])
     assert not rbs[2] & ub("pos_end") and me[1] == 163
+
+
+def test_test_mode_turns_the_axis_off_at_a_limit_switch():
+    """5.13: in test mode <da> goes straight to the output; a limit switch
+    reached turns the axis off (no ramp: the controller is not active), and
+    it can then be driven out of the switch in test mode again."""
+    for card in ("inc", "ssi", "stp"):
+        sw, da = (1000, 900) if card == "stp" else (3000, 800)
+        r = run(pre(card) + ["switch 0 lp %d" % sw, "send 0 INIT", "send 0 MT", "send 0 E", "send 0 WDA %d" % da,
+                             "run 2000", "plant 0", "send 0 RBS", "send 0 MT", "send 0 E", "send 0 WDA %d" % -da,
+                             "run 1000", "plant 0", "send 0 RBS", "run 5"], card)
+        p1, p2 = r.grep(r"^plant 0 ")
+        assert " en=0 " in p1 and plant_pos(p1) >= sw, (card, p1)        # off in the switch
+        rbs1, mt, e, wda, rbs2 = r.resps()[-5:]
+        assert rbs1[2] & 0xFF == MODE["disable"] and rbs1[2] & ub("hwl_p"), (card, hex(rbs1[2]))
+        assert not rbs1[2] & ub("logo_f", "ferr_f") and e[1] == code("E"), (card, e)
+        assert " en=1 " in p2 and plant_pos(p2) < sw, (card, p2)         # out again, in test mode
+        assert rbs2[2] & 0xFF == MODE["test"] and not rbs2[2] & ub("hwl_p"), (card, hex(rbs2[2]))

@@ -92,8 +92,21 @@ def m_search_coarse(card, v):
 
 
 def m_search_index(card, v):
-    # at <lv> in the direction of <cv> (5.8), no ramp; the index far ahead as for search-coarse
-    return ["send 0 WCV 1", "send 0 WLV %d" % v, "send 0 MI", "send 0 E"]
+    # at <lv> in the direction of <cv> (5.8), no ramp (STP: <lv> at most <ssf>, below the motor's
+    # own start/stop frequency of 1000 Hz); the index far ahead as for search-coarse
+    ssf = ["send 0 WSSF %d" % v] if card == "stp" else []
+    return ssf + ["send 0 WCV 1", "send 0 WLV %d" % v, "send 0 MI", "send 0 E"]
+
+
+def speed(card, mode):
+    return 500 if card == "stp" and mode == "search-index" else V[card]
+
+
+# MAC4-STP with an incremental encoder at P2 (BR open, <et> 1, 4.4.2.3), which home and the
+# searches need: 20:1 gear, 50 000 increments and 10 000 steps per output revolution (5 per
+# step), the index at the end of the revolution: not met during a run
+STP_INDEX = ["plant 0 gear 20", "plant 0 encoder lines 12500 index 49999", "br 0 encoder", "send 0 UWET 1",
+             "send 0 UWES 12500", "send 0 UWMS 10000"]
 
 
 def m_pos_track(card, v):
@@ -133,9 +146,10 @@ MODES = {
     "positioning": (m_positioning, ("inc", "ssi", "stp")),
     "vel-track": (m_vtrack, ("inc", "ssi", "stp")),
     "find-edge": (m_find_edge, ("inc", "ssi", "stp")),
-    "home": (m_home, ("inc",)),                      # needs the index at P2 (<et> 1): INC, STP with encoder
-    "search-coarse": (m_search_coarse, ("inc",)),
-    "search-index": (m_search_index, ("inc",)),
+    # the index at P2 (<et> 1): INC, STP with an encoder (STP_INDEX); the SSI has no such modes
+    "home": (m_home, ("inc", "stp")),
+    "search-coarse": (m_search_coarse, ("inc", "stp")),
+    "search-index": (m_search_index, ("inc", "stp")),
     "pos-track": (m_pos_track, ("inc", "ssi", "stp")),
     "off-fly": (m_off_fly, ("inc", "ssi", "stp")),
 }
@@ -155,7 +169,7 @@ SEARCH = ("search-coarse", "search-index")
 
 
 def ahead_of(card, mode):
-    return 2500 if mode in SEARCH else AHEAD[card]
+    return 2500 if mode in SEARCH and card != "stp" else AHEAD[card]
 
 
 def stop_ramp(card, mode, cause):
@@ -226,7 +240,7 @@ def vel_of(row, card):
 def run_stop(tmp_path, card, mode, cause, v=None, extra=(), runup_ms=None):
     """One run: the trace rows from the event on, the responses after it,
     the RFE at speed and the plant at the end."""
-    v = V[card] if v is None else v
+    v = speed(card, mode) if v is None else v
     fn, _ = MODES[mode]
     path = str(tmp_path / ("%s-%s-%s.csv" % (card, mode, cause.name)))
     ahead = ahead_of(card, mode)
@@ -234,14 +248,17 @@ def run_stop(tmp_path, card, mode, cause, v=None, extra=(), runup_ms=None):
     sys_setup = [l for l in setup if l.startswith(("send 0 UW", "switch", "vme-encoder", "plant"))]
     mode_setup = [l for l in setup if l not in sys_setup]
     lines = [BOOT.strip()] + [l for l in sys_setup if not l.startswith("send")] + pre(card) + list(extra)
-    if mode in SEARCH:
+    if card == "stp" and mode in ("home",) + SEARCH:
+        lines += STP_INDEX
+    elif mode in SEARCH:
         lines.append("plant 0 encoder index 3999")
     lines += [l for l in sys_setup if l.startswith("send")]
     if card == "stp":
         lines.append("send 0 WAA %d" % ED_STP)             # a ramp step per tick the motor follows
     lines += ["send 0 INIT", "send 0 ME", "send 0 E", "run 20"] + mode_setup
     # the run-up: the move at speed well before the switch or limit ahead
-    run_up = runup_ms or RUNUP.get(mode, 300 if card != "stp" else 600)
+    # (STP_INDEX: the index far; search index at 500 Hz needs longer to reach the switch ahead)
+    run_up = runup_ms or ((3000 if mode == "search-index" else 600) if card == "stp" else RUNUP.get(mode, 300))
     host = PosTrack(card, v) if mode == "pos-track" else None
 
     def run(ms):
@@ -300,7 +317,7 @@ def test_stop_sweep(tmp_path, card, mode, cause):
     t0 = rows[k0]
     p0 = pos_of(t0, card)
     v0 = float(r.grep(r"^plant 0 ")[0].split("vel=")[1].split()[0])     # just before the trace
-    assert v0 > 0.8 * V[card] * (1000 / SP_MS[card] if card != "stp" else 1), (mode, v0)   # at speed
+    assert v0 > 0.8 * speed(card, mode) * (1000 / SP_MS[card] if card != "stp" else 1), (mode, v0)   # at speed
     end = rows[-1]
     rest = pos_of(end, card)
     dist = rest - p0
@@ -308,7 +325,7 @@ def test_stop_sweep(tmp_path, card, mode, cause):
         assert abs(vel_of(end, card)) < 1 and abs(pos_of(rows[-20], card) - rest) < 1, "mechanics not at rest"
     enabled = [k for k, t in enumerate(rows) if t["en"] == 1]
     off_at = next((k for k in range(len(rows)) if rows[k]["en"] == 0), None)
-    vmax = V[card]
+    vmax = speed(card, mode)
     ramp = stop_ramp(card, mode, cause)
     if card == "stp":
         vel_sp = vmax * STP_STEPS_SP                       # steps per SP
