@@ -542,13 +542,22 @@ def test_leds_by_name(card):
     r = cmds(["switch 0 lp 100", "switch 1 ln -100 high", "switch 2 ref -50 100", "switch 3 df high",
               "plant 0 pos 200", "send 0 UWPS 0", "run 20", "leds", "fault 0 drive on", "send 3 UWSO 2",
               "send 3 INIT", "run 40", "leds", "fault 3 drive on", "run 40", "leds"] + pre(card), card)
-    first, _, third = [leds_of(l) for l in r.grep(r"^leds ")]
+    lines = r.grep(r"^leds ")
+    first, second, third = [leds_of(l) for l in lines]
     assert first[0] == {"D", "LP"}                               # at 0 V, though configured off (UWPS 0)
     assert first[1] == {"D", "LN"}                               # high active, off: the line is at 0 V
-    assert first[2] == {"D", "REF"} and first[3] == {"D", "F"}   # df high active, no fault: 0 V, not "on"
+    # axis 3's amplifier signals a fault high: no fault puts 0 V on the line, which the card, still
+    # configured low active (<df> 1), recognises as a fault: F; configured high active (UWSO 2,
+    # INIT): off; the fault on, the line high: F again, whatever the level
+    assert first[2] == {"D", "REF"} and first[3] == {"D", "F"}
+    assert "F" not in second[3]
     assert "F" in third[0]                                       # low active (default): on at 0 V
-    assert "F" in third[3] and int(r.grep(r"^leds ")[2].split()[1], 16) & (0x4 << 12)
-    assert int(r.grep(r"^leds ")[0].split()[1], 16) == int(r.grep(r"^leds ")[0].split()[1], 16)
+    assert "F" in third[3]
+    for line, named in zip(lines, (first, second, third)):
+        word = int(line.split()[1], 16)                          # the register word agrees with the names
+        for a in range(4):
+            for bit, name in ((1, "D"), (2, "P"), (4, "F")):
+                assert bool(word >> (4 * a) & bit) == (name in named[a]), (line, a, name)
 
 
 def test_rout_and_rps_in_steps_per_sp_on_the_stp():
