@@ -391,11 +391,13 @@ MF = 500
 STOP_GROW_TICKS, STOP_SETTLE_TICKS = 4, 40            # firmware/card.h
 
 
-def guard_run(tmp_path, name, before, inject, ms=4000):
+def guard_run(tmp_path, name, before, inject, ms=4000, card="inc"):
     path = str(tmp_path / (name + ".csv"))
-    lines = [BOOT.strip()] + before + ["trace 0 %s tick" % path] + inject + [
+    # (the SSI's absolute encoder away from its 0, which a reversed run would cross)
+    lines = [BOOT.strip()] + (["plant 0 pos 100000"] if card == "ssi" else []) + pre(card) + before + [
+        "trace 0 %s tick" % path] + inject + [
         "run %d" % ms, "trace off", "plant 0", "send 0 RBS", "send 0 ME", "run 5"]
-    r = sim("\n".join(lines) + "\n", "inc")
+    r = sim("\n".join(lines) + "\n", card)
     assert r.rc == 0, r.stderr
     rows = trace_rows(path)
     off = next(k for k, t in enumerate(rows) if t["en"] == 0)
@@ -410,37 +412,40 @@ def over_mf(rows):
     return next(k for k, t in enumerate(rows) if abs(t["dac"]) > K * MF)
 
 
-def test_runaway_guard_reversed_wiring(tmp_path):
+@pytest.mark.parametrize("card", ("inc", "ssi"))
+def test_runaway_guard_reversed_wiring(tmp_path, card):
     """The motor's leads swapped (USR missing): the loop drives away from the
     setpoint.  Following error, and the braking loop runs away too: /EN opens
     STOP_GROW_TICKS ticks after the stop began, not when the following error
     has grown by <mf>/2 more, nor after the time bound."""
     rows, off = guard_run(tmp_path, "reversed", ["plant 0 wiring reversed"] + P_ONLY + [
         "send 0 WMF %d" % MF, "send 0 INIT", "send 0 ME", "send 0 E", "run 20"],
-        ["send 0 WVT 100", "send 0 MS", "send 0 E"])
+        ["send 0 WVT 100", "send 0 MS", "send 0 E"], card=card)
     k = over_mf(rows)
     assert rows[k]["velocity"] < 0                    # the wrong way
     assert off - k <= 2 + STOP_GROW_TICKS, (k, off)   # the stop's first tick, then the guard
     assert abs(rows[-1]["velocity"]) < 1                # coasted to rest
-    print("GUARD reversed: /EN open %d ticks after RFE > <mf>, at %.0f Inc; mechanics at rest at %.0f Inc" % (
-        off - k, rows[off]["position"], rows[-1]["position"]))
+    print("GUARD %s reversed: /EN open %d ticks after RFE > <mf>, at %.0f Inc; mechanics at rest at %.0f Inc" % (
+        card, off - k, rows[off]["position"], rows[-1]["position"]))
 
 
-def test_runaway_guard_frozen_encoder(tmp_path):
+@pytest.mark.parametrize("card", ("inc", "ssi"))
+def test_runaway_guard_frozen_encoder(tmp_path, card):
     """The counter stops mid-move: the axis measures no motion with more
     than <mf> to go: /EN opens in the tick after the stop began."""
     rows, off = guard_run(tmp_path, "frozen", P_ONLY + [
         "send 0 WMF %d" % MF, "send 0 INIT", "send 0 ME", "send 0 E", "run 20", "send 0 WVT 40", "send 0 MS",
-        "send 0 E", "run 300"], ["fault 0 encoder frozen"])
+        "send 0 E", "run 300"], ["fault 0 encoder frozen"], card=card)
     assert rows[0]["en"] == 1 and rows[0]["velocity"] > 3500
     k = over_mf(rows)
     assert off - k <= 3, (k, off)
     assert abs(rows[-1]["velocity"]) < 1
-    print("GUARD frozen: /EN open %d ticks after RFE > <mf>, at %.0f Inc (frozen at %.0f); at rest at %.0f Inc" % (
-        off - k, rows[off]["position"], rows[0]["position"], rows[-1]["position"]))
+    print("GUARD %s frozen: /EN open %d ticks after RFE > <mf>, at %.0f Inc (frozen at %.0f); at rest at %.0f Inc" % (
+        card, off - k, rows[off]["position"], rows[0]["position"], rows[-1]["position"]))
 
 
-def test_runaway_guard_motor_cannot_follow_ed(tmp_path):
+@pytest.mark.parametrize("card", ("inc", "ssi"))
+def test_runaway_guard_motor_cannot_follow_ed(tmp_path, card):
     """A current-controlled drive whose current limit decelerates the load
     at 16 000 Inc/s^2, where <ed> asks for 5e7: the setpoint stands after a
     tick, the motor overshoots it; /EN opens once the following error has
@@ -449,14 +454,14 @@ def test_runaway_guard_motor_cannot_follow_ed(tmp_path):
     rows, off = guard_run(tmp_path, "slow", ["plant 0 motor mode current imax 2 inertia 5e-4",
                                              "send 0 WMF %d" % MF, "send 0 INIT", "send 0 ME", "send 0 E", "run 20",
                                              "send 0 WVT 40", "send 0 WPA 1", "send 0 MS", "send 0 E", "run 3000"],
-                          ["send 0 MRE", "send 0 E"], ms=8000)
+                          ["send 0 MRE", "send 0 E"], ms=8000, card=card)
     assert rows[0]["velocity"] > 3500 and rows[0]["en"] == 1
     ramp_ticks = 1                                    # 40 Inc/SP with <ed> 5000: one tick
     assert off <= 2 * ramp_ticks + STOP_SETTLE_TICKS + 3, off
     assert rows[off]["velocity"] > 1000                # it had not stopped: the guard, not the rest test
     # (after /EN the load coasts on its own friction: far, it has no brake)
-    print("GUARD slow motor: /EN open %d ticks after MRE at %.0f Inc/s, %.0f Inc after it; +%.0f Inc after 8 s" % (
-        off, rows[off]["velocity"], rows[off]["position"] - rows[0]["position"],
+    print("GUARD %s slow motor: /EN open %d ticks after MRE at %.0f Inc/s, %.0f Inc after it; +%.0f Inc after 8 s" % (
+        card, off, rows[off]["velocity"], rows[off]["position"] - rows[0]["position"],
         rows[-1]["position"] - rows[0]["position"]))
 
 
