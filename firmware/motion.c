@@ -239,8 +239,11 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
 #endif
     x->done = 0;
     x->phase = 0;
-    x->stop_then = STOP_NONE;
-    x->stop_settle = 0;
+    if (!(mode == M_RESET && x->stop_then >= STOP_DISABLE)) {
+        /* (an MRE during a stop that disables: that stop goes on, guards and all) */
+        x->stop_then = STOP_NONE;
+        x->stop_settle = 0;
+    }
     x->trt_count = 0;
     x->trt_periods = p->trt_periods;
     switch (mode) {

@@ -119,3 +119,31 @@ def test_test_mode_turns_the_axis_off_at_a_limit_switch():
         assert not rbs1[2] & ub("logo_f", "ferr_f") and e[1] == code("E"), (card, e)
         assert " en=1 " in p2 and plant_pos(p2) < sw, (card, p2)         # out again, in test mode
         assert rbs2[2] & 0xFF == MODE["test"] and not rbs2[2] & ub("hwl_p"), (card, hex(rbs2[2]))
+
+
+def test_c_then_mre_while_the_following_error_stop_brakes_reports_once():
+    """A host's error handler: after the report, C, then MRE and E to be sure
+    the axis stops - while the following-error stop still brakes.  The MRE
+    joins the stop under way (its guards included); the error is not raised
+    a second time when the guard opens /EN."""
+    for card in ("inc", "ssi"):
+        lines = pre(card) + ["send 0 WAA 5", "send 0 WMF 100", "send 0 INIT", "send 0 ME", "send 0 E", "run 20",
+                             "send 0 WVT 40", "send 0 MS", "send 0 E", "run 300", "fault 0 encoder frozen"]
+        for _ in range(6):
+            lines += ["send 0 RBS", "run 2.5"]
+        lines += ["send 0 C", "send 0 MRE", "send 0 E"]
+        for _ in range(40):
+            lines += ["send 0 C", "run 2.5"]
+        lines += ["send 0 RBS", "send 0 ME", "run 5"]
+        r = run(lines, card)
+        got = r.resps()
+        polls = [p for _, c, p in got[-51:-45]]
+        assert any(p & ub("ferr_f") for p in polls), (card, [hex(p) for p in polls])   # raised by then
+        tail = [c for _, c, _ in got[-45:]]
+        assert tail[:3] == [163, code("MRE"), code("E")], (card, tail[:3])      # the first C acknowledges
+        assert got[-45][2] & 0xFF == MODE["speed"], (card, hex(got[-45][2]))    # ... while the stop brakes
+        assert got[-43][2] & 0xFF == MODE["reset"], (card, hex(got[-43][2]))    # E: mode reset, enabled
+        assert 163 not in tail[3:-2] and set(tail[3:-2]) == {4}, (card, tail)
+        rbs, me = got[-2:]
+        assert rbs[2] & 0xFF == MODE["disable"] and not rbs[2] & ub("ferr_f", "logo_f"), (card, hex(rbs[2]))
+        assert me[1] == code("ME"), (card, me)
