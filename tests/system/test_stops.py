@@ -99,7 +99,7 @@ def m_search_index(card, v):
 
 
 def speed(card, mode):
-    return 500 if card == "stp" and mode == "search-index" else V[card]
+    return 500 if card == "stp" and base(mode) == "search-index" else V[card]
 
 
 # MAC4-STP with an incremental encoder at P2 (BR open, <et> 1, 4.4.2.3), which home and the
@@ -114,10 +114,15 @@ def m_pos_track(card, v):
     return ["send 0 WAT 0", "send 0 PT", "send 0 E"]
 
 
-def m_off_fly(card, v):
-    # positioning off-fly (5.15): the axis' other commands wait for the end of the move, so a stop
-    # can come only from the card itself, a switch, a stop bit or the emergency stop
-    return ["send 0 FLYOFF"] + m_positioning(card, v)
+def off_fly(fn):
+    # off-fly (5.15): the axis' other commands wait for the end of the move, so a stop can come
+    # only from the card itself, a switch, a stop bit or the emergency stop
+    return lambda card, v: ["send 0 FLYOFF"] + fn(card, v)
+
+
+def base(mode):
+    """The mode itself, off-fly or on-fly."""
+    return mode[len("off-fly-"):] if mode.startswith("off-fly-") else mode
 
 
 class PosTrack:
@@ -151,8 +156,10 @@ MODES = {
     "search-coarse": (m_search_coarse, ("inc", "stp")),
     "search-index": (m_search_index, ("inc", "stp")),
     "pos-track": (m_pos_track, ("inc", "ssi", "stp")),
-    "off-fly": (m_off_fly, ("inc", "ssi", "stp")),
 }
+# 5.15: off-fly can be selected in these modes; all others, and these by default, run on-fly
+for _m in ("positioning", "find-edge", "home", "search-coarse", "search-index"):
+    MODES["off-fly-" + _m] = (off_fly(MODES[_m][0]), MODES[_m][1])
 JUSTIFY = ("find-edge", "home", "search-coarse", "search-index")
 # the causes that are commands: off-fly holds them until the move ends (5.15); the host that
 # streams position-tracking targets keeps the watchdog from expiring
@@ -169,7 +176,7 @@ SEARCH = ("search-coarse", "search-index")
 
 
 def ahead_of(card, mode):
-    return 2500 if mode in SEARCH and card != "stp" else AHEAD[card]
+    return 2500 if base(mode) in SEARCH and card != "stp" else AHEAD[card]
 
 
 def stop_ramp(card, mode, cause):
@@ -177,8 +184,8 @@ def stop_ramp(card, mode, cause):
     if cause.name != "stop-bit":
         return ED_STP if card == "stp" else ED
     if card == "stp":
-        return 500 if mode in ("speed", "positioning", "find-edge", "off-fly") else 1000
-    return 20 if mode in ("positioning", "off-fly") else 100
+        return 500 if base(mode) in ("speed", "positioning", "find-edge") else 1000
+    return 20 if base(mode) == "positioning" else 100
 
 
 class Cause:
@@ -224,7 +231,7 @@ CAUSES = [
     Cause("drive", "coast", ("axis", 163, ub("dr_f")), inject=("fault 0 drive on",), bits=("dr_f",)),
     Cause("estop", "coast", ("card", 165, 0), inject=("estop on",)),
     Cause("encoder", "coast", ("axis", 163, ub("encoder_f", "logo_f")), per_card=ENCODER_LOSS,
-          modes=("speed", "positioning", "vel-track", "find-edge", "pos-track", "off-fly"), bits=("encoder_f",)),
+          modes=("speed", "positioning", "vel-track", "find-edge", "pos-track"), bits=("encoder_f",)),
 ]
 
 
@@ -252,9 +259,9 @@ def run_stop(tmp_path, card, mode, cause, v=None, extra=(), runup_ms=None):
     sys_setup = [l for l in setup if l.startswith(("send 0 UW", "switch", "vme-encoder", "plant", "br ", "stepper"))]
     mode_setup = [l for l in setup if l not in sys_setup]
     lines = [BOOT.strip()] + [l for l in sys_setup if not l.startswith("send")] + pre(card) + list(extra)
-    if card == "stp" and mode in ("home",) + SEARCH:
+    if card == "stp" and base(mode) in ("home",) + SEARCH:
         lines += STP_INDEX
-    elif mode in SEARCH:
+    elif base(mode) in SEARCH:
         lines.append("plant 0 encoder index 3999")
     lines += [l for l in sys_setup if l.startswith("send")]
     if card == "stp":
@@ -262,7 +269,8 @@ def run_stop(tmp_path, card, mode, cause, v=None, extra=(), runup_ms=None):
     lines += ["send 0 INIT", "send 0 ME", "send 0 E", "run 20"] + mode_setup
     # the run-up: the move at speed well before the switch or limit ahead
     # (STP_INDEX: the index far; search index at 500 Hz needs longer to reach the switch ahead)
-    run_up = runup_ms or ((3000 if mode == "search-index" else 600) if card == "stp" else RUNUP.get(mode, 300))
+    run_up = runup_ms or ((3000 if base(mode) == "search-index" else 600) if card == "stp" else
+                          RUNUP.get(base(mode), 300))
     host = PosTrack(card, v) if mode == "pos-track" else None
 
     def run(ms):
@@ -297,12 +305,12 @@ def ferr_at_speed(r):
 def cases():
     for cause in CAUSES:
         for mode, (_, cards) in MODES.items():
-            if cause.modes and mode not in cause.modes:
+            if cause.modes and base(mode) not in cause.modes:
                 continue
-            if cause.name in BY_COMMAND and mode in ("off-fly", "pos-track"):
+            if cause.name in BY_COMMAND and (mode.startswith("off-fly") or mode == "pos-track"):
                 continue
             for card in cards:
-                if cause.name == "ferr" and card == "stp" and mode in ("home",) + SEARCH:
+                if cause.name == "ferr" and card == "stp" and base(mode) in ("home",) + SEARCH:
                     continue                              # (STP_FERR's encoder is not STP_INDEX's)
                 yield pytest.param(card, mode, cause, id="%s-%s-%s" % (cause.name, mode, card))
 
