@@ -6,18 +6,22 @@ shows where the mechanics come to rest, whether the drive was enabled until
 they stood, and the status bits and the report that follow.
 
 * `test_stop_sweep`: every cause x every mode in which it can happen x every
-  card.  Stops that disable on MAC4-INC/SSI (MRE, DEINIT, watchdog, leaving a
-  software limit, following error) open /EN only with the mechanics at rest
-  (|speed| <= 1 Inc per tick), within the distance that the reaction delay
-  (two ticks at speed), the <ed> ramp and the following lag allow; stops that
-  hold (limit switch, stop bits) stand in mode brake within it; the drive
-  fault and the emergency stop disable (the mechanics coast: the distance is
-  reported, not bounded); on the STP (open loop) the steps ramp with <ed> to
-  <ssf> and stop, and not one step is lost.  Each run prints a `STOP` line;
-  its figures are the stopping-distance column of docs/hardening.md.
-* the runaway guards: reversed motor wiring, a frozen encoder, a motor that
-  cannot follow <ed>: /EN opens at once with ferr_f, and the mechanics stop
-  near where the fault began.
+  card: speed, positioning, velocity and position tracking, find edge, home
+  and the two searches (INC, STP with an encoder), on-fly and, where 5.15
+  allows it, off-fly.  Stops that disable on MAC4-INC/SSI (MRE, DEINIT,
+  watchdog, leaving a software limit, following error) open /EN only with
+  the mechanics at rest (|speed| <= 1 Inc per tick), within the distance that
+  the reaction delay (three ticks at speed), the <ed> ramp and the following
+  lag allow; stops that hold (limit switch, stop bits) stand in mode brake
+  within it; the drive fault, the emergency stop and the encoder error
+  disable (the mechanics coast: the distance is reported, not bounded); on
+  the STP (open loop) the steps ramp with <ed> to <ssf> and stop, and not one
+  step is lost (but by a motor that stalls).  Each run prints a `STOP` line;
+  its figures are the table "Stopping distances at speed" of
+  docs/hardening.md.
+* the runaway guards (INC, SSI): reversed motor wiring, a frozen encoder, a
+  motor that cannot follow <ed>: /EN opens at once with ferr_f; the trace
+  shows where the mechanics stop.
 * reads while an error waits, C right after an error, m_rdy, the LEDs, ROUT.
 """
 import csv
