@@ -673,21 +673,10 @@ ALL = ("inc", "ssi", "stp")
 AXES4 = (0, 1, 2, 3)
 RAMP = {"drop", "off"}            # a reaction with the <ed> ramp: braking or already disabled
 
-# The firmware bugs the matrix shows (docs/hardening.md, "Fault matrix"): the
-# strict xfails below fail only with the findings they name.
-K2 = ("K2: an absolute position outside <ec> raises encoder_f and the report 163 again in every tick "
-      "while the value stays (measure.c, measure_ext -> axis_error): the RBS after the report is answered "
-      "163 again, and so is C (not executed) until the host's encoder is valid again")
-K4 = ("K4: q_check() validates the command queue header, then q_get() reads front and rear again: a host "
-      "write in between makes the card take an element at an unchecked index (one past the queue, the "
-      "header itself, or a stale element answered a second time) before it sees the corruption")
-K6 = ("K6: protective reactions act through the profile generator, which works one SP ahead: the <ed> ramp "
-      "(with <ed> above the speed: the disable) starts at the next SP boundary or the one after, %s "
-      "after the event; bound: the output of the tick after it")
-K7 = ("K7: the limit switch is reported with 163 but sets no error bit, so the next command (ME) is "
-      "executed without C (6.3: a reported error must first be acknowledged with C)")
-
-
+# A row whose fault shows a firmware bug names it in `known` (known(): the
+# findings and the reason per card), a strict xfail that fails only with the
+# findings it names; none is open (the fixed ones: docs/hardening.md, "Fault
+# matrix", Findings).
 def known(findings, reason, cards=ALL):
     return {c: (findings, reason) for c in cards}
 
@@ -698,7 +687,7 @@ MATRIX = [
         state={n: ("disable", ()) for n in AXES4}, after={0: ("disable", ())},
         display="E", leds={"D": AXES4, "stop": 1}, timing=((AXES4, {"off"}, 1),), at_once=True,
         repair=("estop off",)),
-    # K7 fixed: the report sets logo_f, so C comes first (display 8 until then)
+    # the limit reports set logo_f, so C comes first (display 8 until then)
     Row("hwl-move", "positive limit switch reached during a move", ALL, "2.2.3, 4.8.2",
         b_hwl_move, err=("axis", 163, ub("hwl_p", "logo_f")),
         state={0: ("brake", ("hwl_p", "logo_f")), 1: ("enable", ())}, after={0: ("brake", ("hwl_p",))},
