@@ -814,7 +814,8 @@ void fw_fault(uint16_t vector, uint32_t pc, uint16_t sr, uint32_t addr)
     hal_wr32(DPC_FAULT_PC, pc);
     hal_wr32(DPC_FAULT_SR, sr);
     hal_wr32(DPC_FAULT_ADDR, addr);
+    hal_wr32(DPC_FAULT_COUNT, hal_rd32(DPC_FAULT_COUNT) + 1);   /* in the DPRAM: the reset tests the RAM */
     for (unsigned n = 0; n < MAC4_NAXES; n++)
         hal_wr16(AX_REG(n, AX_CTRL), 0);   /* a crashed card drives nothing */
-    fw_halt(0xF, DPC_ERR_EXCEPTION);
+    fw_halt_for_watchdog(0xF, DPC_ERR_EXCEPTION);   /* J11 in: restart (2.1.3) */
 }
