@@ -61,8 +61,7 @@ MUTATIONS = [
      STP, None),
     ("stp-rate-saturate", "firmware/stepper.c", "return 0xFFFFu;                          /* beyond 50 kHz",
      "return 0xFFFEu;                          /* beyond 50 kHz", STP, None),
-    ("stp-ssf-floor", "firmware/stepper.c", "    if (u <= ssf)\n        return 0;\n    if (rem <= ssf)",
-     "    if (u < ssf)\n        return 0;\n    if (rem <= ssf)", STP, None),
+    ("stp-ssf-brake", "firmware/stepper.c", "if (rem <= (uint32_t)ssf)", "if (rem < (uint32_t)ssf)", STP, None),
     ("stp-turbo", "firmware/stepper.c", "return turbo ? hz * 10 : hz;", "return turbo ? hz * 9 : hz;", STP, None),
     # measurement paths (4.4)
     ("measure-ssi-shift", "firmware/measure.c", "v >>= PAR(n, SC);", "v >>= PAR(n, SC) + 1;", ("ssi",), None),
