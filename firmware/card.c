@@ -44,6 +44,7 @@ static uint8_t virq_fifo[VIRQ_FIFO];
 static uint8_t virq_head;
 volatile uint8_t vme_irq_waiting;      /* virq_tail != virq_head: see vme_irq_service() */
 static uint8_t virq_tail;
+static uint32_t virq_lost;             /* DPC_VME_IRQ_LOST, kept in RAM (published every tick) */
 
 void vme_irq(uint8_t vector)
 {
@@ -52,7 +53,7 @@ void vme_irq(uint8_t vector)
     unsigned prev = hal_irq_save();
     uint8_t next = (uint8_t)((virq_head + 1u) % VIRQ_FIFO);
     if (next == virq_tail) {
-        hal_wr32(DPC_VME_IRQ_LOST, hal_rd32(DPC_VME_IRQ_LOST) + 1);
+        hal_wr32(DPC_VME_IRQ_LOST, ++virq_lost);
     } else {
         virq_fifo[virq_head] = vector;
         virq_head = next;
@@ -233,6 +234,7 @@ void card_reset(void)
     card_supervised = 0;
     estop_seen = 0;
     virq_head = virq_tail = 0;
+    virq_lost = 0;
     vme_irq_waiting = 0;
     cmd_reset();
     serial_reset();
@@ -726,6 +728,10 @@ void card_supervise_tick(void)
     hal_wr32(DPC_OSTAT, card_ostat);
     hal_wr32(DPC_PROFILE_LATE, card_profile_late);
     hal_wr32(DPC_SUPERVISE_LATE, card_supervise_late);
+    /* the counters live in RAM: a host write to them lasts a tick at most */
+    hal_wr32(DPC_VME_IRQ_LOST, virq_lost);
+    cmd_publish();
+    serial_publish(phase);
     vme_irq_service();
 }
 
@@ -814,7 +820,8 @@ void fw_fault(uint16_t vector, uint32_t pc, uint16_t sr, uint32_t addr)
     hal_wr32(DPC_FAULT_PC, pc);
     hal_wr32(DPC_FAULT_SR, sr);
     hal_wr32(DPC_FAULT_ADDR, addr);
+    hal_wr32(DPC_FAULT_COUNT, hal_rd32(DPC_FAULT_COUNT) + 1);   /* in the DPRAM: the reset tests the RAM */
     for (unsigned n = 0; n < MAC4_NAXES; n++)
         hal_wr16(AX_REG(n, AX_CTRL), 0);   /* a crashed card drives nothing */
-    fw_halt(0xF, DPC_ERR_EXCEPTION);
+    fw_halt_for_watchdog(0xF, DPC_ERR_EXCEPTION);   /* J11 in: restart (2.1.3) */
 }

@@ -107,6 +107,17 @@ static uint8_t turn;            /* which interface is asked first this pass */
 /* Bit 0: some axis has an interrupt-1 vector, bit 1: an interrupt-2 vector
  * (4.6; both 0 by default): the command path looks a vector up only then. */
 static uint8_t irq12;
+/* Diagnostic counts, kept here and published to the card data block at
+ * every change and every tick (cmd_publish): a host write to the DPRAM
+ * cannot corrupt them. */
+static uint32_t n_commands, n_rsp_lost, n_queue_errors;
+
+void cmd_publish(void)
+{
+    hal_wr32(DPC_COMMANDS, n_commands);
+    hal_wr32(DPC_RSP_LOST, n_rsp_lost);
+    hal_wr32(DPC_QUEUE_ERRORS, n_queue_errors);
+}
 
 static void irq12_update(void)
 {
@@ -135,6 +146,7 @@ void cmd_reset(void)
     cmd_mr = 0;
     wd_fired = 0;
     wd_last_us = 0;
+    n_commands = n_rsp_lost = n_queue_errors = 0;
     n_held = 0;
     held_axes = 0;
     irq12_update();
@@ -629,7 +641,7 @@ static inline __attribute__((always_inline)) void respond(const mac4_msg_t *out)
     /* the VME response queue: source 0 (only the serial driver marks source 1) */
     if (q_put_at(DP_RSP_QUEUE, out->axis, out->code, out->param, MSG_SRC_VME) != Q_OK) {
         /* 4.6: a full output queue loses the response, no interrupt 2 */
-        hal_wr32(DPC_RSP_LOST, hal_rd32(DPC_RSP_LOST) + 1);
+        hal_wr32(DPC_RSP_LOST, ++n_rsp_lost);
         return;
     }
     if (irq12 & 2u) {
@@ -655,7 +667,7 @@ static inline __attribute__((always_inline)) void execute_and_respond(const mac4
     }
     cmd_execute(in, &out);   /* (perf track counts a pass with a cmd_execute as a command pass) */
     hal_irq_restore(prev);
-    hal_wr32(DPC_COMMANDS, hal_rd32(DPC_COMMANDS) + 1);   /* (a diagnostic count: after the mask) */
+    hal_wr32(DPC_COMMANDS, ++n_commands);   /* (a diagnostic count: after the mask) */
     /* what only the main loop reads, after the mask: the profile
      * generator's velocities of a move the command started (motion.c) */
     motion_after_command();
@@ -764,7 +776,7 @@ void cmd_poll(void)
         int r = q_get_at(DP_CMD_QUEUE, &in, 0);
         if (r == Q_CORRUPT) {
             if (!queue_bad)
-                hal_wr32(DPC_QUEUE_ERRORS, hal_rd32(DPC_QUEUE_ERRORS) + 1);
+                hal_wr32(DPC_QUEUE_ERRORS, ++n_queue_errors);
             queue_bad = 1;
         } else {
             queue_bad = 0;

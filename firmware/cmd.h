@@ -6,6 +6,7 @@
 void cmd_reset(void);
 void cmd_poll(void);                    /* main loop: handle at most one command */
 void cmd_execute(const mac4_msg_t *in, mac4_msg_t *out);
+void cmd_publish(void);                 /* the command counters to the card data block */
 extern uint8_t cmd_mr;                 /* MR accepted: let the watchdog reset the card */
 static inline int cmd_mr_pending(void) { return cmd_mr; }
 /* Off-fly (5.15): commands waiting for their axis' move, oldest first
