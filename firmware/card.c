@@ -16,6 +16,7 @@
 #include "measure.h"
 #include "serial.h"
 #include "motion.h"
+#include "ext.h"
 #if MAC4_CARD == MAC4_CARD_STP
 #include "stepper.h"
 #endif
@@ -134,6 +135,7 @@ void axis_init_measurement(unsigned n)
 {
     measure_init(n);
     axes[n].meas_sup = axes[n].meas;
+    ext_axis_init(n);                            /* the extensions follow the new measurement */
 }
 
 /* The part of axis_prepare that follows mode parameters (<mf>): all that
@@ -236,6 +238,7 @@ void card_reset(void)
     vme_irq_waiting = 0;
     cmd_reset();
     serial_reset();
+    ext_reset();                                  /* the extensions off (docs/extensions.md) */
 }
 
 void card_start(void)
@@ -710,6 +713,7 @@ void card_supervise_tick(void)
             axis_disable(n);
     }
     unsigned phase = (t - 1u) & (PROFILE_DIVIDER - 1u);
+    ext_supervise();         /* compensation, compare: one test while all are off (ext.h) */
     supervise_axis(0, phase);
     supervise_axis(1, phase);
     supervise_axis(2, phase);

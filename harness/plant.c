@@ -17,6 +17,7 @@
  *
  * No libm: the unit tests link the harness without it.
  */
+#include <math.h>
 #include <stddef.h>
 #include <string.h>
 #include "sim.h"
@@ -305,6 +306,21 @@ double plant_units(sim_t *s, int n, cyc_t t)
     if (is_stp(s))
         return stp_rotor(&s->plant.ax[n], t);
     return out_rev(s, n, t) * plant_units_per_rev(s, n);
+}
+
+/* The leadscrew's error: where the load is for the output shaft at u. */
+double plant_lead_error(const plant_axis_t *p, double u)
+{
+    double e = p->lead_ppm * 1e-6 * u;
+    if (p->lead_amp != 0.0 && p->lead_pitch > 0.0)
+        e += p->lead_amp * sin(TWO_PI * u / p->lead_pitch);
+    return e;
+}
+
+double plant_load_units(sim_t *s, int n, cyc_t t)
+{
+    double u = plant_units(s, n, t);
+    return u + plant_lead_error(&s->plant.ax[n], u);
 }
 
 double plant_units_per_s(sim_t *s, int n, cyc_t t)
@@ -1153,19 +1169,19 @@ void plant_format(sim_t *s, int n, char *buf, size_t len)
         snprintf(buf, len,
                 "plant %d pos=%lld %s rev=%.4f vel=%.1f steps/s rate=%u field=%.3fHz en=%d "
                 "generated=%lld lost=%lld sync=%d counter=0x%06X "
-                "lp=%d ln=%d ref=%d df=%d in=0x%04X",
+                "lp=%d ln=%d ref=%d df=%d in=0x%04X load=%.3f",
                 n, (long long)made, unit, out_rev(s, n, now), plant_units_per_s(s, n, now),
                 s->ax[n].rate, stp_field_hz(s, n), drive_enabled(s, n), (long long)p->gen,
                 (long long)(p->gen - p->lost_base - made), p->sync, counter_at(s, n, now), sw[0],
-                sw[1], sw[2], p->drive_fault, in);
+                sw[1], sw[2], p->drive_fault, in, u + plant_lead_error(p, u));
     } else {
         snprintf(buf, len,
                 "plant %d pos=%lld %s rev=%.4f vel=%.1f %s/s rpm=%.1f dac=%d volts=%.3f en=%d "
-                "%s=0x%06X lp=%d ln=%d ref=%d df=%d in=0x%04X",
+                "%s=0x%06X lp=%d ln=%d ref=%d df=%d in=0x%04X load=%.3f",
                 n, (long long)ifloor(u + 0.5), unit, out_rev(s, n, now), plant_units_per_s(s, n, now),
                 unit, plant_motor_rpm(s, n, now), s->ax[n].dac, dac_volts(s, n), drive_enabled(s, n),
                 is_ssi(s) ? "ssi" : "counter",
                 is_ssi(s) ? plant_ssi_value(s, n, now) : counter_at(s, n, now), sw[0], sw[1], sw[2],
-                p->drive_fault, in);
+                p->drive_fault, in, u + plant_lead_error(p, u));
     }
 }

@@ -202,6 +202,24 @@ static int cmd_plant(script_t *sc, sim_t *s, char **tok, int nt)
         plant_set_position(s, n, u);
         return 0;
     }
+    if (!strcmp(what, "leadscrew")) {
+        /* the load behind a leadscrew with a known error (docs/plant.md) */
+        const char *usage = "plant AXIS leadscrew AMP PITCH [PPM] | plant AXIS leadscrew off";
+        if (nt == 4 && !strcmp(tok[3], "off")) {
+            p->lead_amp = p->lead_pitch = p->lead_ppm = 0.0;
+            return 0;
+        }
+        double amp = 0, pitch = 0, ppm = 0;
+        if (nt < 5 || nt > 6)
+            return script_err(sc, "usage: %s", usage);
+        if (parse_double(sc, tok[3], &amp, -1e9, 1e9) || parse_double(sc, tok[4], &pitch, 1e-3, 1e15) ||
+            (nt == 6 && parse_double(sc, tok[5], &ppm, -1e5, 1e5)))
+            return -1;
+        p->lead_amp = amp;
+        p->lead_pitch = pitch;
+        p->lead_ppm = ppm;
+        return 0;
+    }
     if (!strcmp(what, "defaults")) {
         edit_t e = edit_begin(s, n);
         double x = plant_units(s, n, sim_now(s));
@@ -212,7 +230,7 @@ static int cmd_plant(script_t *sc, sim_t *s, char **tok, int nt)
         edit_end(s, n, e);
         return 0;
     }
-    return script_err(sc, "unknown plant command '%s' (motor gear encoder ssi wiring pos defaults)", what);
+    return script_err(sc, "unknown plant command '%s' (motor gear encoder ssi wiring pos leadscrew defaults)", what);
 }
 
 static int cmd_stepper(script_t *sc, sim_t *s, char **tok, int nt)
