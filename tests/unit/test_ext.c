@@ -180,9 +180,24 @@ static void test_compare_crossings(void **state)
     compare_case(0, 333, 0x7FFFFFFFL, 1000);/* an open window */
 }
 
+/* ---- the plant's leadscrew (harness/plant.c) against libm ------------------ */
+static void test_plant_leadscrew(void **state)
+{
+    (void)state;
+    plant_axis_t p = {.lead_amp = 20.0, .lead_pitch = 4000.0, .lead_ppm = 50.0};
+    for (int k = -20000; k <= 20000; k++) {
+        double u = k * 13.7;
+        double want = 20.0 * sin(2 * M_PI * u / 4000.0) + 50e-6 * u;
+        assert_true(fabs(plant_lead_error(&p, u) - want) < 1e-6);
+    }
+    plant_axis_t none = {0};
+    assert_true(plant_lead_error(&none, 12345.0) == 0.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_plant_leadscrew),
         cmocka_unit_test(test_lerp),
         cmocka_unit_test(test_one_dimensional),
         cmocka_unit_test(test_two_dimensional),
