@@ -9,7 +9,7 @@ from conftest import BOOT, sim
 from mac4 import code
 
 AMP, PITCH = 20.0, 4000.0          # the plant's leadscrew error, increments
-COLS, SPAN = 64, 16000             # spacing 250: the chord error of the sine stays below 0.4
+COLS, SPAN = 128, 16000            # spacing 125: the chord error of the sine stays below 0.1
 TARGETS = (2500, 5300, 9100, 700, 12345)
 
 
@@ -43,32 +43,48 @@ def plant_load(r):
     return [float(l.split("load=")[1].split()[0]) for l in r.grep(r"^plant 0 ")]
 
 
-def positioning(comp):
-    lines = [BOOT, "plant 0 leadscrew %g %g" % (AMP, PITCH), "send 0 INIT"] + load_table()
+SSI_AT = 1000000     # the SSI encoder starts here (tools/perfscen.py): <ao> puts RCP at 0
+
+
+def positioning(comp, card="inc"):
+    lines = [BOOT, "plant 0 leadscrew %g %g" % (AMP, PITCH)]
+    if card == "ssi":
+        lines += ["plant 0 pos %d" % SSI_AT, "send 0 UWSC 2", "send 0 UWAO %d" % -SSI_AT]
+    lines += ["send 0 INIT"] + load_table()
+    v, acc = (2000, 500) if card == "stp" else (100, 10)
     lines += ["send 0 RCSM", "send 0 CON %d" % comp, "send 0 ME", "send 0 E", "run 20",
-              "send 0 WPV 100", "send 0 WPA 10", "send 0 WPD 10"]
+              "send 0 WPV %d" % v, "send 0 WPA %d" % acc, "send 0 WPD %d" % acc]
     for t in TARGETS:
-        lines += ["send 0 WAP %d" % t, "send 0 MP", "send 0 E", "run 1800", "plant 0", "send 0 RBS", "run 5"]
-    r = sim("\n".join(lines) + "\n", "inc")
+        lines += ["send 0 WAP %d" % t, "send 0 MP", "send 0 E", "run %d" % (8000 if card == "stp" else 1800),
+                  "plant 0", "send 0 RBS", "run 5"]
+    r = sim("\n".join(lines) + "\n", card)
     assert r.rc == 0, r.stderr
     return r
 
 
-def test_the_leadscrew_error_is_compensated_within_a_count():
-    r = positioning(1)
+def load_errors(r, card):
+    """|load - target| in the axis' units, the plant's frame as the card's."""
+    base = SSI_AT if card == "ssi" else 0
+    return [abs(l - base - t) for l, t in zip(plant_load(r), TARGETS)]
+
+
+@pytest.mark.parametrize("card", ["inc", "ssi", "stp"])
+def test_the_leadscrew_error_is_compensated_within_a_count(card):
+    r = positioning(1, card)
     rbs = [p for a, c, p in r.resps() if c == code("RBS")]
     assert len(rbs) == len(TARGETS) and all(p & (1 << 10) for p in rbs), [hex(p) for p in rbs]   # pos_end
     assert all(p & (1 << 29) for p in rbs)                                                       # comp_on
-    err = [abs(l - t) for l, t in zip(plant_load(r), TARGETS)]
+    err = load_errors(r, card)
     assert max(err) <= 1.0, err
     # the checksum the host verifies: count and CRC-16/CCITT of the entries
     sm = [p for a, c, p in r.resps() if c == code("RCSM")][0]
     assert sm >> 16 == COLS and sm & 0xFFFF == crc16([v & 0xFFFF for v in entries()])
 
 
-def test_without_the_table_the_load_is_off_by_the_error():
-    r = positioning(0)
-    err = [abs(l - t) for l, t in zip(plant_load(r), TARGETS)]
+@pytest.mark.parametrize("card", ["inc", "ssi", "stp"])
+def test_without_the_table_the_load_is_off_by_the_error(card):
+    r = positioning(0, card)
+    err = load_errors(r, card)
     want = [abs(lead_error(t)) for t in TARGETS]
     assert max(err) >= 10, err
     assert all(abs(e - w) <= 1.5 for e, w in zip(err, want)), (err, want)
