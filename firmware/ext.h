@@ -45,11 +45,13 @@ typedef struct {
     uint8_t des_r, des_c;   /* source by desired position (the setpoint) */
     uint8_t valid;          /* the cells below follow the sources */
     ext_cell_t cr, cc;      /* the row source and the column source */
-    int32_t cor;            /* the correction in force, 1/16 count */
-    int32_t cin;            /* ... in whole counts, as added to the axis' measured position */
+    int32_t cor;            /* the table's correction in force, 1/16 count */
+    int32_t ccomp;          /* ... in whole counts, rounded */
+    int32_t cin;            /* what is added to the axis' measured position: the table's
+                             * and the feedback processing's (ext_axis_correct) */
     /* the axis measured absolutely on a linear axis: tracked as relative
-     * while the table is on, so that the correction stays in meas */
-    uint8_t abs_saved, mk_saved;
+     * while a correction is on, so that it stays in meas */
+    uint8_t rel, abs_saved, mk_saved;
 } ext_comp_t;
 
 extern ext_comp_t ext_comp[MAC4_NAXES];
@@ -81,9 +83,31 @@ void ext_pc_locate(ext_pc_t *c, int64_t p);
 /* The crossings from the last position to p (updates the state). */
 uint32_t ext_pc_cross(ext_pc_t *c, int64_t p);
 
+/* ---- feedback processing (ext_feedback.c): the conversion table --------- */
+#define EXT_FB_N 8
+enum { FB_OFF = 0x0, FB_PARALLEL = 0x3, FB_TRACK = 0xB, FB_EXP = 0xD, FB_SUM = 0xE };
+#define FB_SRC_ENTRY 0x00   /* + entry: its result */
+#define FB_SRC_MEAS 0x10    /* + axis: its measured position, without its corrections */
+#define FB_SRC_COUNTER 0x20 /* + axis: its counter content (RCT) */
+typedef struct {
+    uint32_t setup, w1, w2;
+    int32_t result;     /* counts (RFBR) */
+    int64_t q;          /* filters: the output, Q8 */
+    int64_t iq;         /* tracking filter: the integrator, Q8 per cycle */
+    uint32_t last;      /* $3: the field the result stands at */
+    uint8_t started;
+} ext_fb_t;
+extern ext_fb_t ext_fb[EXT_FB_N];
+void ext_fb_step(ext_fb_t *e);              /* one cycle of one entry */
+int ext_fb_setup(unsigned k, uint32_t setup);  /* FBS: checks the words, starts the entry */
+int32_t ext_fb_source(unsigned code);
+extern uint8_t ext_fb_sel;                 /* FBX */
+
 /* ---- the card's hooks --------------------------------------------------- */
-/* bit n: axis n's table is on; bit 4 + n: axis n's compare is armed */
-extern uint8_t ext_on;
+/* bit n: axis n's table is on; bit 4 + n: axis n's compare is armed;
+ * EXT_FB_ON: an entry of the conversion table is on */
+#define EXT_FB_ON 0x100u
+extern uint16_t ext_on;
 void ext_reset(void);                   /* card reset: all off */
 void ext_axis_init(unsigned n);         /* INIT of axis n: its measurement was reset */
 void ext_supervise_do(void);            /* after each tick, while ext_on */
@@ -98,6 +122,7 @@ int ext_general(int ci, unsigned a, uint32_t p);
 uint32_t ext_read(unsigned ci, unsigned a);
 /* ext_compare.c, ext_comp.c: one axis after each tick, interrupts masked */
 void ext_comp_apply(unsigned n);
+void ext_axis_correct(unsigned n, int32_t fb, int fb_on);
 void ext_pc_check(unsigned n);
 int ext_comp_define(unsigned a);
 int ext_comp_entry(unsigned a, int32_t v);

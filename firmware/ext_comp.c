@@ -137,6 +137,7 @@ static void track_relative(unsigned n, int on)
     ext_comp_t *t = &ext_comp[n];
     axis_t *x = axis_at[n];
     meas_cfg_t *c = &meas_cfg[n];
+    t->rel = (uint8_t)on;
     if (on) {
         t->abs_saved = c->abs && x->linear;
         if (!t->abs_saved)
@@ -198,11 +199,24 @@ void ext_comp_apply(unsigned n)
     if (!changed)
         return;
     t->cor = ext_comp_value(t);
-    int32_t c = (t->cor + 8) >> 4;                /* whole counts, rounded */
-    if (c != t->cin) {
-        correct_by(n, c - t->cin);
-        t->cin = c;
+    t->ccomp = (t->cor + 8) >> 4;                 /* whole counts, rounded */
+}
+
+/* The table's correction and the feedback processing's fb (fb_on: the
+ * axis takes an entry's result) into the axis' measured position. */
+void ext_axis_correct(unsigned n, int32_t fb, int fb_on)
+{
+    ext_comp_t *t = &ext_comp[n];
+    int active = t->on || fb_on;
+    if (active && !t->rel && axis_initialised(n))
+        track_relative(n, 1);
+    int32_t total = pos_add(t->on ? t->ccomp : 0, fb);
+    if (total != t->cin) {
+        correct_by(n, pos_sub(total, t->cin));
+        t->cin = total;
     }
+    if (!active && t->rel)
+        track_relative(n, 0);
 }
 
 /* ---- the commands -------------------------------------------------------- */
@@ -302,25 +316,23 @@ int ext_comp_switch(unsigned a, uint32_t on)
             return 0;
         unsigned prev = hal_irq_save();
         t->valid = 0;
-        t->cor = t->cin = 0;
-        if (axis_initialised(a))
-            track_relative(a, 1);
+        t->cor = t->ccomp = 0;
         t->on = 1;
-        ext_on |= (uint8_t)(1u << a);
+        ext_on |= (uint16_t)(1u << a);
         x->ustat |= UB(COMP_ON);
         hal_irq_restore(prev);
-        return 0;
+        return 0;                                 /* applied from the next supervision on */
     }
     if (!t->on)
         return 0;
-    unsigned prev = hal_irq_save();
-    correct_by(a, -t->cin);
-    t->cin = t->cor = 0;
-    track_relative(a, 0);
+    /* the correction leaves the measured position now (a command runs
+     * masked), not at the next supervision */
     t->on = 0;
-    ext_on &= (uint8_t)~(1u << a);
+    t->cor = t->ccomp = 0;
+    ext_on &= (uint16_t)~(1u << a);
     x->ustat &= ~UB(COMP_ON);
-    hal_irq_restore(prev);
+    int fbe = (ext_on & EXT_FB_ON) ? par_a[P_FBE][a] : 0;
+    ext_axis_correct(a, fbe ? ext_fb[fbe - 1].result : 0, fbe != 0);
     return 0;
 }
 
@@ -329,9 +341,8 @@ int ext_comp_switch(unsigned a, uint32_t on)
 void ext_comp_init(unsigned n)
 {
     ext_comp_t *t = &ext_comp[n];
-    t->cin = t->cor = 0;
+    t->cin = t->cor = t->ccomp = 0;
     t->valid = 0;
     t->abs_saved = 0;
-    if (t->on)
-        track_relative(n, 1);
+    t->rel = 0;                                   /* measure_init set the measurement up afresh */
 }

@@ -84,7 +84,7 @@ int ext_pc_arm(unsigned a, uint32_t on)
     axis_at[a]->ustat &= ~UB(PC_HIT);
     if (!on) {
         c->armed = 0;
-        ext_on &= (uint8_t)~(0x10u << a);
+        ext_on &= (uint16_t)~(0x10u << a);
         hal_irq_restore(prev);
         return 0;
     }
@@ -99,7 +99,7 @@ int ext_pc_arm(unsigned a, uint32_t on)
     c->irq_done = 0;
     ext_pc_locate(c, pc_pos(a));                  /* where the axis is now: no crossing yet */
     c->armed = 1;
-    ext_on |= (uint8_t)(0x10u << a);
+    ext_on |= (uint16_t)(0x10u << a);
     hal_irq_restore(prev);
     return 0;
 }

@@ -117,11 +117,13 @@ typedef struct {
 } plant_axis_t;
 
 #define PLANT_NVME 8
+#define PLANT_VME_LOAD 2
 typedef struct {
     int used;
     uint32_t base;             /* A24 address */
     int axis;                  /* the axis whose shaft turns it */
-    int motor_shaft;           /* on the motor shaft instead of the output shaft */
+    int motor_shaft;           /* on the motor shaft instead of the output shaft; PLANT_VME_LOAD:
+                                * a scale on the load behind the leadscrew (plant_load_units) */
     int bits;                  /* 1..32: one word up to 16 bits, two words above */
     double res;                /* counts per revolution */
     uint64_t turns;            /* revolutions before the value wraps (0: 2^bits wraps) */

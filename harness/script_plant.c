@@ -356,7 +356,7 @@ static int cmd_vme_encoder(script_t *sc, sim_t *s, char **tok, int nt)
     double res = -1;
     int motor = 0;
     static const char *const usage =
-        "vme-encoder ADDR AXIS [bits N] [res COUNTS] [turns T] [offset V] [shaft motor|output], "
+        "vme-encoder ADDR AXIS [bits N] [res COUNTS] [turns T] [offset V] [shaft motor|output|load], "
         "vme-encoder ADDR off";
     if (nt < 3 || parse_int(sc, tok[1], &base, 0, 0xFFFFFE))
         return nt < 3 ? script_err(sc, "usage: %s", usage) : -1;
@@ -384,9 +384,9 @@ static int cmd_vme_encoder(script_t *sc, sim_t *s, char **tok, int nt)
             if (parse_int(sc, v, &offset, -(1LL << 40), 1LL << 40))
                 return -1;
         } else if (!strcmp(k, "shaft")) {
-            if (strcmp(v, "motor") && strcmp(v, "output"))
+            if (strcmp(v, "motor") && strcmp(v, "output") && strcmp(v, "load"))
                 return script_err(sc, "usage: %s", usage);
-            motor = !strcmp(v, "motor");
+            motor = !strcmp(v, "motor") ? 1 : !strcmp(v, "load") ? PLANT_VME_LOAD : 0;
         } else {
             return script_err(sc, "usage: %s", usage);
         }
@@ -409,7 +409,7 @@ static void cmd_vme_boards(sim_t *s)
             continue;
         sim_printf(s, "vme-encoder $%06X axis=%d bits=%d res=%.0f turns=%llu offset=%lld shaft=%s value=%u\n",
                    (unsigned)b->base, b->axis, b->bits, b->res, (unsigned long long)b->turns,
-                   (long long)b->offset, b->motor_shaft ? "motor" : "output",
+                   (long long)b->offset, b->motor_shaft == PLANT_VME_LOAD ? "load" : b->motor_shaft ? "motor" : "output",
                    plant_vme_value(s, b, sim_now(s)));
     }
 }

@@ -60,7 +60,7 @@ static void unique(const char *mn)
 /* General instructions that take a parameter (the others ignore it). */
 static int takes_parameter(const char *mn)
 {
-    static const char *const with[] = {"TURBO", "WAP_R", "CENT", "CPTR", "CON", "PCON"};
+    static const char *const with[] = {"TURBO", "WAP_R", "CENT", "CPTR", "CON", "PCON", "FBX", "FBS", "FBW1", "FBW2"};
     for (unsigned i = 0; i < sizeof with / sizeof with[0]; i++)
         if (!strcmp(with[i], mn))
             return 1;

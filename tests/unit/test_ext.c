@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include "unit_support.h"
 #include "ext.h"
+#include "card.h"
 
 /* ---- the model: PMAC's table as a function of the source positions ------- */
 typedef struct {
@@ -180,6 +181,110 @@ static void test_compare_crossings(void **state)
     compare_case(0, 333, 0x7FFFFFFFL, 1000);/* an open window */
 }
 
+/* ---- feedback processing against double models ------------------------------ */
+static void fb_start(unsigned k, uint32_t setup, uint32_t w1, uint32_t w2)
+{
+    ext_fb[k].setup = 0;
+    ext_fb[k].w1 = w1;
+    ext_fb[k].w2 = w2;
+    assert_int_equal(ext_fb_setup(k, setup), 0);
+}
+
+/* the exponential filter: out += clamp(g (in - out), max), in Q8 */
+static void test_exponential_filter(void **state)
+{
+    (void)state;
+    memset(axes, 0, sizeof axes);
+    memset(ext_comp, 0, sizeof ext_comp);
+    const uint32_t gain = (1u << 23) / 10, max = 40;
+    fb_start(0, 0xD00000u | FB_SRC_MEAS, max, gain);
+    double out = 0, g = gain / 8388608.0;
+    for (int k = 0; k < 3000; k++) {
+        axes[0].meas = k < 1000 ? 5000 : k < 2000 ? -300 + (int32_t)(rnd32() % 61u) - 30 : 7 * k;
+        if (k == 0)
+            out = axes[0].meas;
+        double step = g * (axes[0].meas - out);
+        step = step > max ? max : step < -(double)max ? -(double)max : step;
+        out += step;
+        ext_fb_step(&ext_fb[0]);
+        if (fabs(ext_fb[0].result - out) > 1.0)
+            fail_msg("tick %d: %d, model %.3f", k, ext_fb[0].result, out);
+    }
+}
+
+/* the tracking filter (001): out += I, then with err = in - out,
+ * I += Ki err and out += Kp err: follows a ramp without a lag once
+ * settled (the integrator is the speed) */
+static void test_tracking_filter(void **state)
+{
+    (void)state;
+    memset(axes, 0, sizeof axes);
+    memset(ext_comp, 0, sizeof ext_comp);
+    const uint32_t kp = (1u << 23) / 4, ki = (1u << 23) / 64;
+    fb_start(1, 0xB00000u | (FB_SRC_MEAS + 2), kp, ki);
+    double out = 0, integ = 0, p = kp / 8388608.0, i = ki / 8388608.0;
+    for (int k = 0; k < 4000; k++) {
+        axes[2].meas = k < 500 ? 0 : 25 * (k - 500);
+        out += integ;
+        double err = axes[2].meas - out;
+        integ += i * err;
+        out += p * err;
+        ext_fb_step(&ext_fb[1]);
+        if (fabs(ext_fb[1].result - out) > 1.5)
+            fail_msg("tick %d: %d, model %.3f", k, ext_fb[1].result, out);
+    }
+    assert_true(abs(ext_fb[1].result - axes[2].meas) <= 1);
+}
+
+/* $E and $3: the control bits; a field of the counter across its wrap with
+ * the maximum change per cycle */
+static void test_sum_and_parallel(void **state)
+{
+    (void)state;
+    memset(axes, 0, sizeof axes);
+    memset(ext_comp, 0, sizeof ext_comp);
+    axes[0].meas = 1000;
+    axes[1].meas = 234;
+    ext_comp[1].cin = 4;                          /* the source is the axis' own measurement */
+    fb_start(0, 0xE00000u | (FB_SRC_MEAS + 1) << 8 | FB_SRC_MEAS, 0, 0);
+    ext_fb_step(&ext_fb[0]);
+    assert_int_equal(ext_fb[0].result, 1230);
+    fb_start(0, 0xE20000u | (FB_SRC_MEAS + 1) << 8 | FB_SRC_MEAS, 0, 0);   /* minus the second */
+    ext_fb_step(&ext_fb[0]);
+    assert_int_equal(ext_fb[0].result, 770);
+    fb_start(0, 0xE50000u | FB_SRC_MEAS, 0, 0);    /* the first negated, no second */
+    ext_fb_step(&ext_fb[0]);
+    assert_int_equal(ext_fb[0].result, -1000);
+    fb_start(0, 0xE80000u | (FB_SRC_MEAS + 1) << 8 | FB_SRC_MEAS, 0, 0);   /* integrated */
+    ext_fb_step(&ext_fb[0]);
+    ext_fb_step(&ext_fb[0]);
+    assert_int_equal(ext_fb[0].result, 2460);
+    assert_int_equal(ext_fb_setup(0, 0x700000u), ERR_LIMIT);               /* no such method */
+    assert_int_equal(ext_fb_setup(0, 0xE00000u | 0x33), ERR_LIMIT);        /* no such source */
+    /* bits 4..11 of the 24-bit counter, the change limited to 5 per cycle:
+     * against the unwrapped counter's position / 16, across the counter's
+     * wrap and one jump of 1600 counts (100 fields, less than half the
+     * field: more would be the other way round), which it follows at 5
+     * per cycle until it has caught up */
+    fb_start(2, 0x300000u | (FB_SRC_COUNTER + 3), 8 | 4 << 8, 5);
+    const int64_t start = 0xFFFF00;
+    int64_t unw = start;
+    int32_t prev = 0;
+    for (int k = 0; k < 2000; k++) {
+        int32_t d = k == 1000 ? 1600 : (int32_t)(rnd32() % 97u) - 40;
+        if (k)
+            unw += d;
+        axes[3].counter = (uint32_t)(unw & 0xFFFFFF);
+        ext_fb_step(&ext_fb[2]);
+        int64_t model = (unw >> 4) - (start >> 4) + ((start >> 4) & 0xFF);
+        if (k < 1000 || k >= 1100)
+            assert_int_equal(ext_fb[2].result, model);
+        else
+            assert_true(ext_fb[2].result - prev <= 5 && ext_fb[2].result - prev >= -5);
+        prev = ext_fb[2].result;
+    }
+}
+
 /* ---- the plant's leadscrew (harness/plant.c) against libm ------------------ */
 static void test_plant_leadscrew(void **state)
 {
@@ -198,6 +303,9 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_plant_leadscrew),
+        cmocka_unit_test(test_exponential_filter),
+        cmocka_unit_test(test_tracking_filter),
+        cmocka_unit_test(test_sum_and_parallel),
         cmocka_unit_test(test_lerp),
         cmocka_unit_test(test_one_dimensional),
         cmocka_unit_test(test_two_dimensional),

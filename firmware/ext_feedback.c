@@ -1,0 +1,182 @@
+/*
+ * ext_feedback.c - feedback processing after the Turbo PMAC's encoder
+ * conversion table (000; 001 for the tracking filter and the sum or
+ * difference of entries): eight entries for the card, processed in order
+ * after each tick from that tick's measurements; an axis takes an entry's
+ * result as a correction of its measured position (<fbe>), as the
+ * compensation table's (ext_comp.c).  docs/extensions.md.
+ *
+ *   $3 parallel data with filter: a field of <width> bits from bit <offset>
+ *      of an axis' counter content (RCT), followed across its wrap, each
+ *      cycle's change limited to the maximum change (0: none)
+ *   $D exponential filter: out += clamp(gain/2^23 x (in - out), +-max)
+ *   $B tracking filter: out += I; err = in - out; I += Ki/2^23 err;
+ *      out += Kp/2^23 err (a second-order loop: no lag on a ramp)
+ *   $E sum or difference: +-first +-second (bit 18: no second), bit 19
+ *      integrated; bits 16/17 negate the first/second
+ * The filters keep their output in Q8 (1/256 count); the result is rounded.
+ */
+#include "fw.h"
+#include "hal.h"
+#include "mul16.h"
+#include "card.h"
+#include "ext.h"
+
+ext_fb_t ext_fb[EXT_FB_N];
+uint8_t ext_fb_sel;
+
+#define FB_METHOD(s) (((s) >> 20) & 0xFu)
+#define FB_SRC1(s) ((s) & 0xFFu)
+#define FB_SRC2(s) (((s) >> 8) & 0xFFu)
+#define FB_NEG1 (1u << 16)
+#define FB_NEG2 (1u << 17)
+#define FB_NO2 (1u << 18)
+#define FB_INTEG (1u << 19)
+#define FB_GAIN_MAX (1u << 23)
+#define Q8_ERR_MAX 0x7FFFFFFF                    /* |in - out| limited to 2^23 counts in Q8 */
+
+static int64_t q8(int32_t v) { return (int64_t)((uint64_t)(int64_t)v << 8); }
+static int32_t q8_round(int64_t q) { return (int32_t)((q + 128) >> 8); }
+
+/* e x g / 2^23 for |e| < 2^31 (Q8) and g <= 2^23: one MULU.W chain, no 64-bit multiply */
+static int64_t mul_gain(int64_t e, uint32_t g)
+{
+    uint32_t a = (uint32_t)(e < 0 ? -e : e), hi, lo;
+    mulu31(a, g, &hi, &lo);
+    uint64_t p = ((uint64_t)hi << 32 | lo) >> 23;
+    return e < 0 ? -(int64_t)p : (int64_t)p;
+}
+
+static int src_ok(unsigned code)
+{
+    return code < EXT_FB_N || (code >= FB_SRC_MEAS && code < FB_SRC_MEAS + MAC4_NAXES) ||
+           (code >= FB_SRC_COUNTER && code < FB_SRC_COUNTER + MAC4_NAXES);
+}
+
+int32_t ext_fb_source(unsigned code)
+{
+    if (code < EXT_FB_N)
+        return ext_fb[code].result;
+    if (code >= FB_SRC_COUNTER)
+        return (int32_t)axes[code - FB_SRC_COUNTER].counter;
+    unsigned n = code - FB_SRC_MEAS;
+    return pos_sub(axes[n].meas, ext_comp[n].cin);   /* the axis' own measurement */
+}
+
+static int64_t err_q8(const ext_fb_t *e, int32_t in)
+{
+    int64_t d = q8(in) - e->q;
+    return d > Q8_ERR_MAX ? Q8_ERR_MAX : d < -Q8_ERR_MAX ? -Q8_ERR_MAX : d;
+}
+
+static void parallel(ext_fb_t *e)
+{
+    unsigned width = e->w1 & 0xFFu, off = (e->w1 >> 8) & 0xFFu;
+    uint32_t mask = width >= 32 ? 0xFFFFFFFFu : ((uint32_t)1 << width) - 1u;
+    uint32_t field = ((uint32_t)ext_fb_source(FB_SRC1(e->setup)) >> off) & mask;
+    if (!e->started) {
+        e->started = 1;
+        e->last = field;
+        e->result = (int32_t)field;
+        return;
+    }
+    uint32_t u = (field - e->last) & mask;
+    if (width < 32 && (u & ((mask >> 1) + 1u)))
+        u |= ~mask;                               /* the shorter way round the field's wrap */
+    int32_t d = (int32_t)u, max = (int32_t)e->w2;
+    if (max > 0 && (d > max || d < -max))
+        d = d > 0 ? max : -max;                   /* the maximum change per cycle */
+    e->last = (e->last + (uint32_t)d) & mask;
+    e->result = pos_add(e->result, d);
+}
+
+void ext_fb_step(ext_fb_t *e)
+{
+    uint32_t s = e->setup;
+    switch (FB_METHOD(s)) {
+    case FB_PARALLEL:
+        parallel(e);
+        return;
+    case FB_EXP: {
+        int32_t in = ext_fb_source(FB_SRC1(s));
+        if (!e->started) {
+            e->started = 1;
+            e->q = q8(in);
+        }
+        int64_t step = mul_gain(err_q8(e, in), e->w2), max = q8((int32_t)e->w1);
+        if (e->w1 && (step > max || step < -max))
+            step = step > 0 ? max : -max;
+        e->q += step;
+        e->result = q8_round(e->q);
+        return;
+    }
+    case FB_TRACK: {
+        int32_t in = ext_fb_source(FB_SRC1(s));
+        if (!e->started) {
+            e->started = 1;
+            e->q = q8(in);
+            e->iq = 0;
+        }
+        e->q += e->iq;                            /* the prediction: the integrator is the speed */
+        int64_t err = err_q8(e, in);
+        e->iq += mul_gain(err, e->w2);            /* 001: Ki/2^23 Err(n) into the integrator ... */
+        e->q += mul_gain(err, e->w1);             /* ... and Kp/2^23 Err(n) into the output */
+        e->result = q8_round(e->q);
+        return;
+    }
+    case FB_SUM: {
+        int32_t a = ext_fb_source(FB_SRC1(s)), b = (s & FB_NO2) ? 0 : ext_fb_source(FB_SRC2(s));
+        if (s & FB_NEG1)
+            a = pos_sub(0, a);
+        if (s & FB_NEG2)
+            b = pos_sub(0, b);
+        int32_t sum = pos_add(a, b);
+        e->result = (s & FB_INTEG) ? pos_add(e->result, sum) : sum;
+        return;
+    }
+    default:
+        return;
+    }
+}
+
+int ext_fb_setup(unsigned k, uint32_t setup)
+{
+    ext_fb_t *e = &ext_fb[k];
+    unsigned m = FB_METHOD(setup);
+    if (setup >> 24)
+        return ERR_LIMIT;
+    switch (m) {
+    case FB_OFF:
+        if (setup)
+            return ERR_LIMIT;
+        break;
+    case FB_PARALLEL: {
+        unsigned width = e->w1 & 0xFFu, off = (e->w1 >> 8) & 0xFFu;
+        if ((setup & 0xFFF00u) || !src_ok(FB_SRC1(setup)) || FB_SRC1(setup) < EXT_FB_N || width < 1 ||
+            width > 32 || off > 31 || (e->w1 >> 16) || e->w2 > 0x7FFFFFFFu)
+            return ERR_LIMIT;
+        break;
+    }
+    case FB_EXP:
+    case FB_TRACK:
+        if ((setup & 0xFFF00u) || !src_ok(FB_SRC1(setup)) || e->w2 > FB_GAIN_MAX ||
+            (m == FB_TRACK ? e->w1 > FB_GAIN_MAX : e->w1 > 0x7FFFFFu))
+            return ERR_LIMIT;
+        break;
+    case FB_SUM:
+        if (!src_ok(FB_SRC1(setup)) || (!(setup & FB_NO2) && !src_ok(FB_SRC2(setup))))
+            return ERR_LIMIT;
+        break;
+    default:
+        return ERR_LIMIT;
+    }
+    e->setup = setup;
+    e->started = 0;
+    e->result = 0;
+    e->q = e->iq = 0;
+    ext_on &= (uint16_t)~EXT_FB_ON;
+    for (unsigned i = 0; i < EXT_FB_N; i++)
+        if (ext_fb[i].setup)
+            ext_on |= EXT_FB_ON;
+    return 0;
+}
