@@ -57,9 +57,9 @@ int32_t ext_fb_source(unsigned code)
 {
     if (code < EXT_FB_N)
         return ext_fb[code].result;
+    unsigned n = code & (MAC4_NAXES - 1u);        /* (FBS checked the code: src_ok) */
     if (code >= FB_SRC_COUNTER)
-        return (int32_t)axes[code - FB_SRC_COUNTER].counter;
-    unsigned n = code - FB_SRC_MEAS;
+        return (int32_t)axes[n].counter;
     return pos_sub(axes[n].meas, ext_comp[n].cin);   /* the axis' own measurement */
 }
 
