@@ -713,12 +713,12 @@ void card_supervise_tick(void)
             axis_disable(n);
     }
     unsigned phase = (t - 1u) & (PROFILE_DIVIDER - 1u);
-    ext_supervise();         /* compensation, compare: one test while all are off (ext.h) */
     supervise_axis(0, phase);
     supervise_axis(1, phase);
     supervise_axis(2, phase);
     supervise_axis(3, phase);
     stop_bits();             /* after the reactions: a stop they began keeps its <ed> */
+    ext_supervise();         /* the extensions' slices due (ext.h): one test while all are off */
     /* One axis' DPRAM data per tick: each is fresh every profile period
      * (10 ms / 32 ms), at a quarter of the cost. */
     unsigned prev = hal_irq_save();
@@ -807,6 +807,7 @@ void fw_main_step(void)
         card_supervise();   /* the SP boundary's tick first, wherever the tick hit the pass */
         card_profile_tick();
     }
+    ext_work();              /* one slice of the extensions' work, if due (ext.h) */
     cmd_poll();
     vme_irq_service();
     display_update();

@@ -3,16 +3,18 @@
  * compensation tables (ext_comp.c) and position compare (ext_compare.c),
  * their commands (ext.c, codes 210 on in commands.def).  All off by default.
  *
- * None of them runs in the tick: they work in the supervision after each
- * tick (card_supervise_tick calls ext_supervise while one is on), so a tick
+ * None of them runs in the tick: they work in the main loop after each
+ * tick, in slices (ext_slice), started by the supervision
+ * (card_supervise_tick calls ext_supervise while one is on), so a tick
  * costs the same with them on or off, and the main loop pays one test of
- * ext_on per tick while all are off.
+ * ext_on per tick and one of ext_due per pass while all are off.
  */
 #ifndef EXT_H
 #define EXT_H
 #include <stdint.h>
 #include "fw.h"
 #include "mac4_map.h"
+#include "status.h"
 
 /* ---- compensation tables (PMAC DEFINE COMP, I30, I51) ---------------------
  * One table per target axis: (r+1)(c+1) grid values, e[0] the origin (the
@@ -55,6 +57,7 @@ typedef struct {
 } ext_comp_t;
 
 extern ext_comp_t ext_comp[MAC4_NAXES];
+extern ext_comp_t *const ext_comp_at[MAC4_NAXES];
 
 /* The pure part, shared with the native unit tests: the grid value
  * interpolated in a cell (row i, column j, offsets f/sp and g/sp), and
@@ -92,8 +95,9 @@ enum { FB_OFF = 0x0, FB_PARALLEL = 0x3, FB_TRACK = 0xB, FB_EXP = 0xD, FB_SUM = 0
 typedef struct {
     uint32_t setup, w1, w2;
     int32_t result;     /* counts (RFBR) */
-    int64_t q;          /* filters: the output, Q8 */
-    int64_t iq;         /* tracking filter: the integrator, Q8 per cycle */
+    int32_t qi;         /* filters: the output, counts ... */
+    uint16_t qf;        /* ... and its fraction, Q16 */
+    int32_t iq;         /* tracking filter: the integrator, Q16 counts per cycle */
     uint32_t last;      /* $3: the field the result stands at */
     uint8_t started;
 } ext_fb_t;
@@ -110,11 +114,38 @@ extern uint8_t ext_fb_sel;                 /* FBX */
 extern uint16_t ext_on;
 void ext_reset(void);                   /* card reset: all off */
 void ext_axis_init(unsigned n);         /* INIT of axis n: its measurement was reset */
-void ext_supervise_do(void);            /* after each tick, while ext_on */
+void ext_supervise_do(void);            /* after each tick's supervision, while ext_on: the slices due */
 static inline __attribute__((always_inline)) void ext_supervise(void)
 {
     if (ext_on)
         ext_supervise_do();
+}
+/* The budget: what the extensions switched on cost per tick, as measured
+ * on four axes (tools/perfscen.py, the ext_* scenarios; docs/extensions.md),
+ * against what the main loop has beside its own work while the command
+ * latency stays within 2 ms.  The command that would exceed it is refused
+ * with 163 (CON 1, PCON 1, FBS). */
+#define EXT_W_TABLE2 3100u      /* a 2-D table, its axis' correction */
+#define EXT_W_TABLE1 2400u      /* a 1-D table */
+#define EXT_W_COMPARE 2900u     /* an armed compare, an interrupt per tick */
+#define EXT_W_FB_FILTER 2000u   /* a $D or $B entry */
+#define EXT_W_FB_SIMPLE 700u    /* a $3 or $E entry */
+#define EXT_W_FB_AXES 4000u     /* the four axes' corrections, once an entry is on */
+#define EXT_BUDGET CARDSEL(16000u, 16000u, 48000u)
+uint32_t ext_load(void);                /* cycles per tick of what is on */
+int ext_fits(uint32_t more);            /* ext_load() + more within EXT_BUDGET */
+
+/* Main loop, once per pass: the slices of the work after the tick
+ * (ext.c) due, up to a command waiting; one test while none is. */
+#define EXT_SLICES 6
+extern volatile uint8_t ext_due;
+extern uint16_t ext_late;               /* rounds late: the next tick came first (REXL) */
+void ext_slice(void);
+void ext_work_do(void);                 /* slices while no command waits */
+static inline __attribute__((always_inline)) void ext_work(void)
+{
+    if (ext_due)
+        ext_work_do();
 }
 /* The commands (cmd.c): a general instruction with index ci (CI_*),
  * a read; ERR_SYNTAX for an index that is none of ours. */

@@ -12,6 +12,9 @@
  * division (ext_cell_move), the interpolation is done only when a source
  * moved: a table costs nothing on an axis at rest.
  */
+/* The extensions run after every tick: their hot paths compiled for speed
+ * (the rest of the firmware for size, Makefile OPT68). */
+#pragma GCC optimize("O2")
 #include "fw.h"
 #include "hal.h"
 #include "mul16.h"
@@ -22,9 +25,11 @@
 #include "ext.h"
 
 ext_comp_t ext_comp[MAC4_NAXES];
+/* &ext_comp[n] by a table, as axis_at[] (card.h) */
+ext_comp_t *const ext_comp_at[MAC4_NAXES] = {&ext_comp[0], &ext_comp[1], &ext_comp[2], &ext_comp[3]};
 
 /* ---- the arithmetic (unit-tested natively against a double model) --------- */
-int32_t ext_lerp(int32_t a, int32_t b, uint16_t f, uint16_t sp)
+static inline __attribute__((always_inline)) int32_t lerp(int32_t a, int32_t b, uint16_t f, uint16_t sp)
 {
     int32_t d = b - a;
     if (d == 0 || f == 0)
@@ -34,6 +39,8 @@ int32_t ext_lerp(int32_t a, int32_t b, uint16_t f, uint16_t sp)
     uint16_t q = (uint16_t)divu16(mulu16(ad, f) + (sp >> 1), sp);
     return d < 0 ? a - q : a + q;
 }
+
+int32_t ext_lerp(int32_t a, int32_t b, uint16_t f, uint16_t sp) { return lerp(a, b, f, sp); }
 
 void ext_cell_set(ext_cell_t *c, int32_t pos)
 {
@@ -52,7 +59,7 @@ void ext_cell_set(ext_cell_t *c, int32_t pos)
     c->off = (uint16_t)off;
 }
 
-void ext_cell_move(ext_cell_t *c, int32_t pos)
+static inline __attribute__((always_inline)) void cell_move(ext_cell_t *c, int32_t pos)
 {
     int32_t d = pos_sub(pos, c->pos);
     int32_t sp = c->sp;
@@ -82,9 +89,11 @@ void ext_cell_move(ext_cell_t *c, int32_t pos)
     c->off = (uint16_t)off;
 }
 
+void ext_cell_move(ext_cell_t *c, int32_t pos) { cell_move(c, pos); }
+
 /* The grid index and offset of a source: beyond the span the edge value
  * without wrap (the PMAC always rolls over; docs/extensions.md). */
-static void cell_at(const ext_cell_t *c, unsigned *j, uint16_t *f)
+static inline __attribute__((always_inline)) void cell_at(const ext_cell_t *c, unsigned *j, uint16_t *f)
 {
     if (c->cell < 0) {
         *j = 0;
@@ -98,34 +107,36 @@ static void cell_at(const ext_cell_t *c, unsigned *j, uint16_t *f)
     }
 }
 
-int32_t ext_comp_value(const ext_comp_t *t)
+static inline __attribute__((always_inline)) int32_t comp_value(const ext_comp_t *t)
 {
     unsigned j, i = 0;
     uint16_t f, g = 0;
     cell_at(&t->cr, &j, &f);
-    unsigned stride = t->cols + 1u;
+    uint16_t stride = (uint16_t)(t->cols + 1u);
     const int16_t *row = &t->e[0];
     if (t->rows) {
         cell_at(&t->cc, &i, &g);
-        row = &t->e[i * stride];
+        row += mulu16((uint16_t)i, stride);
     }
     unsigned j1 = f ? j + 1u : j;
-    int32_t a = ext_lerp(row[j], row[j1], f, t->cr.sp);
+    int32_t a = lerp(row[j], row[j1], f, t->cr.sp);
     if (!g)
         return a;
     const int16_t *next = row + stride;
-    int32_t b = ext_lerp(next[j], next[j1], f, t->cr.sp);
-    return ext_lerp(a, b, g, t->cc.sp);
+    int32_t b = lerp(next[j], next[j1], f, t->cr.sp);
+    return lerp(a, b, g, t->cc.sp);
 }
+
+int32_t ext_comp_value(const ext_comp_t *t) { return comp_value(t); }
 
 /* ---- the axis' position and its correction --------------------------------- */
 /* A source's position as the table reads it, in the frame of RCP (with
  * <ao>): the actual position without the source's own correction (the
  * encoder's), or the setpoint of the last tick (desired). */
-static int32_t source_pos(unsigned s, int desired)
+static inline __attribute__((always_inline)) int32_t source_pos(unsigned s, int desired)
 {
     const axis_t *x = axis_at[s];
-    int32_t p = desired ? x->setpoint : pos_sub(x->meas, ext_comp[s].cin);
+    int32_t p = desired ? x->setpoint : pos_sub(x->meas, ext_comp_at[s]->cin);
     return pos_add(p, par_a[P_AO][s]);
 }
 
@@ -157,7 +168,7 @@ static void track_relative(unsigned n, int on)
     }
 }
 
-static void correct_by(unsigned n, int32_t d)
+static inline void correct_by(unsigned n, int32_t d)
 {
     axis_t *x = axis_at[n];
     x->meas = pos_add(x->meas, d);
@@ -174,7 +185,7 @@ static void correct_by(unsigned n, int32_t d)
 
 void ext_comp_apply(unsigned n)
 {
-    ext_comp_t *t = &ext_comp[n];
+    ext_comp_t *t = ext_comp_at[n];
     int32_t pr = source_pos(t->src_r, t->des_r);
     int changed = 0;
     if (!t->valid) {
@@ -185,20 +196,20 @@ void ext_comp_apply(unsigned n)
         changed = 1;
     } else {
         if (pr != t->cr.pos) {
-            ext_cell_move(&t->cr, pr);
+            cell_move(&t->cr, pr);
             changed = 1;
         }
         if (t->rows) {
             int32_t pc = source_pos(t->src_c, t->des_c);
             if (pc != t->cc.pos) {
-                ext_cell_move(&t->cc, pc);
+                cell_move(&t->cc, pc);
                 changed = 1;
             }
         }
     }
     if (!changed)
         return;
-    t->cor = ext_comp_value(t);
+    t->cor = comp_value(t);
     t->ccomp = (t->cor + 8) >> 4;                 /* whole counts, rounded */
 }
 
@@ -206,7 +217,7 @@ void ext_comp_apply(unsigned n)
  * axis takes an entry's result) into the axis' measured position. */
 void ext_axis_correct(unsigned n, int32_t fb, int fb_on)
 {
-    ext_comp_t *t = &ext_comp[n];
+    ext_comp_t *t = ext_comp_at[n];
     int active = t->on || fb_on;
     if (active && !t->rel && axis_initialised(n))
         track_relative(n, 1);
@@ -314,6 +325,8 @@ int ext_comp_switch(unsigned a, uint32_t on)
             return ERR_LOGICAL;                   /* every entry first */
         if (t->on)
             return 0;
+        if (!ext_fits(t->rows ? EXT_W_TABLE2 : EXT_W_TABLE1))
+            return ERR_LOGICAL;                   /* beyond the extensions' budget (ext.h) */
         unsigned prev = hal_irq_save();
         t->valid = 0;
         t->cor = t->ccomp = 0;

@@ -7,6 +7,9 @@
  * interrupt per axis per tick, however many points the axis crossed in it;
  * every crossing is counted (RPCC).  docs/extensions.md.
  */
+/* The extensions run after every tick: their hot paths compiled for speed
+ * (the rest of the firmware for size, Makefile OPT68). */
+#pragma GCC optimize("O2")
 #include "fw.h"
 #include "hal.h"
 #include "card.h"
@@ -38,21 +41,39 @@ void ext_pc_locate(ext_pc_t *c, int64_t p)
     c->hi = c->lo + c->n;
 }
 
+/* One point up or down from where idx stands (the neighbouring range). */
+static inline __attribute__((always_inline)) void step_up(ext_pc_t *c)
+{
+    c->idx++;
+    c->lo = c->hi;
+    c->hi = c->idx == c->k ? P_HIGH : c->hi + c->n;
+}
+
+static inline __attribute__((always_inline)) void step_down(ext_pc_t *c)
+{
+    c->idx--;
+    c->hi = c->lo;
+    c->lo = c->idx == 0 ? P_LOW : c->lo - c->n;
+}
+
+/* A few points per tick at speed (a small <pcn>) step without a division;
+ * more, or a jump, is located afresh. */
+#define PC_STEPS 8
 uint32_t ext_pc_cross(ext_pc_t *c, int64_t p)
 {
     int32_t was = c->idx;
-    if (p >= c->hi && c->hi != P_HIGH && p < c->hi + c->n && c->idx + 1 < c->k) {
-        c->idx++;                                 /* the next point up: no division */
-        c->lo = c->hi;
-        c->hi += c->n;
-    } else {
+    unsigned i = 0;
+    while (p >= c->hi && i++ < PC_STEPS)
+        step_up(c);
+    while (p < c->lo && i++ < PC_STEPS)
+        step_down(c);
+    if (p >= c->hi || p < c->lo)
         ext_pc_locate(c, p);
-    }
     int32_t d = c->idx - was;
     return (uint32_t)(d < 0 ? -d : d);
 }
 
-static int64_t pc_pos(unsigned n)
+static inline __attribute__((always_inline)) int64_t pc_pos(unsigned n)
 {
     return (int64_t)pos_add(axis_at[n]->meas, par_a[P_AO][n]);
 }
@@ -87,6 +108,10 @@ int ext_pc_arm(unsigned a, uint32_t on)
         ext_on &= (uint16_t)~(0x10u << a);
         hal_irq_restore(prev);
         return 0;
+    }
+    if (!c->armed && !ext_fits(EXT_W_COMPARE)) {
+        hal_irq_restore(prev);
+        return ERR_LOGICAL;                       /* beyond the extensions' budget (ext.h) */
     }
     int64_t p0 = PAR(a, PCP), e = PAR(a, PCE), n = PAR(a, PCN);
     c->p0 = p0;

@@ -14,8 +14,12 @@
  *      out += Kp/2^23 err (a second-order loop: no lag on a ramp)
  *   $E sum or difference: +-first +-second (bit 18: no second), bit 19
  *      integrated; bits 16/17 negate the first/second
- * The filters keep their output in Q8 (1/256 count); the result is rounded.
+ * The filters keep their output in Q16 (1/65536 count) and take the
+ * difference in - out at most ERR_MAX counts per cycle; the result is rounded.
  */
+/* The extensions run after every tick: their hot paths compiled for speed
+ * (the rest of the firmware for size, Makefile OPT68). */
+#pragma GCC optimize("O2")
 #include "fw.h"
 #include "hal.h"
 #include "mul16.h"
@@ -33,18 +37,47 @@ uint8_t ext_fb_sel;
 #define FB_NO2 (1u << 18)
 #define FB_INTEG (1u << 19)
 #define FB_GAIN_MAX (1u << 23)
-#define Q8_ERR_MAX 0x7FFFFFFF                    /* |in - out| limited to 2^23 counts in Q8 */
+#define ERR_MAX 16383                            /* |in - out| taken at most this, counts */
 
-static int64_t q8(int32_t v) { return (int64_t)((uint64_t)(int64_t)v << 8); }
-static int32_t q8_round(int64_t q) { return (int32_t)((q + 128) >> 8); }
-
-/* e x g / 2^23 for |e| < 2^31 (Q8) and g <= 2^23: one MULU.W chain, no 64-bit multiply */
-static int64_t mul_gain(int64_t e, uint32_t g)
+/* e x g / 2^23 for |e| < 2^30 (Q16) and g <= 2^23: MULU.W, no 64-bit arithmetic */
+static inline __attribute__((always_inline)) int32_t mul_gain(int32_t e, uint32_t g)
 {
     uint32_t a = (uint32_t)(e < 0 ? -e : e), hi, lo;
     mulu31(a, g, &hi, &lo);
-    uint64_t p = ((uint64_t)hi << 32 | lo) >> 23;
-    return e < 0 ? -(int64_t)p : (int64_t)p;
+    int32_t p = (int32_t)(hi << 9 | lo >> 23);
+    return e < 0 ? -p : p;
+}
+
+/* The filter's output plus a Q16 step */
+static inline __attribute__((always_inline)) void add_q16(ext_fb_t *e, int32_t step)
+{
+    uint32_t f = (uint32_t)e->qf + (uint16_t)step;
+    e->qi = pos_add(pos_add(e->qi, step >> 16), (int32_t)(f >> 16));
+    e->qf = (uint16_t)f;
+}
+
+static inline __attribute__((always_inline)) int32_t out_rounded(const ext_fb_t *e)
+{
+    return pos_add(e->qi, e->qf >= 0x8000u);
+}
+
+/* in - out in Q16, |in - out| limited to ERR_MAX counts */
+static inline __attribute__((always_inline)) int32_t err_q16(const ext_fb_t *e, int32_t in)
+{
+    int32_t d = pos_sub(in, e->qi);
+    if (d > ERR_MAX)
+        d = ERR_MAX;
+    else if (d < -ERR_MAX)
+        d = -ERR_MAX;
+    return (int32_t)((uint32_t)d << 16) - e->qf;
+}
+
+static void start(ext_fb_t *e, int32_t in)
+{
+    e->started = 1;
+    e->qi = in;
+    e->qf = 0;
+    e->iq = 0;
 }
 
 static int src_ok(unsigned code)
@@ -61,12 +94,6 @@ int32_t ext_fb_source(unsigned code)
     if (code >= FB_SRC_COUNTER)
         return (int32_t)axes[n].counter;
     return pos_sub(axes[n].meas, ext_comp[n].cin);   /* the axis' own measurement */
-}
-
-static int64_t err_q8(const ext_fb_t *e, int32_t in)
-{
-    int64_t d = q8(in) - e->q;
-    return d > Q8_ERR_MAX ? Q8_ERR_MAX : d < -Q8_ERR_MAX ? -Q8_ERR_MAX : d;
 }
 
 static void parallel(ext_fb_t *e)
@@ -99,29 +126,27 @@ void ext_fb_step(ext_fb_t *e)
         return;
     case FB_EXP: {
         int32_t in = ext_fb_source(FB_SRC1(s));
-        if (!e->started) {
-            e->started = 1;
-            e->q = q8(in);
+        if (!e->started)
+            start(e, in);
+        int32_t step = mul_gain(err_q16(e, in), e->w2);
+        if (e->w1 && e->w1 <= ERR_MAX) {          /* the maximum change per cycle */
+            int32_t max = (int32_t)(e->w1 << 16);
+            step = step > max ? max : step < -max ? -max : step;
         }
-        int64_t step = mul_gain(err_q8(e, in), e->w2), max = q8((int32_t)e->w1);
-        if (e->w1 && (step > max || step < -max))
-            step = step > 0 ? max : -max;
-        e->q += step;
-        e->result = q8_round(e->q);
+        add_q16(e, step);
+        e->result = out_rounded(e);
         return;
     }
     case FB_TRACK: {
         int32_t in = ext_fb_source(FB_SRC1(s));
-        if (!e->started) {
-            e->started = 1;
-            e->q = q8(in);
-            e->iq = 0;
-        }
-        e->q += e->iq;                            /* the prediction: the integrator is the speed */
-        int64_t err = err_q8(e, in);
-        e->iq += mul_gain(err, e->w2);            /* 001: Ki/2^23 Err(n) into the integrator ... */
-        e->q += mul_gain(err, e->w1);             /* ... and Kp/2^23 Err(n) into the output */
-        e->result = q8_round(e->q);
+        if (!e->started)
+            start(e, in);
+        add_q16(e, e->iq);                        /* the prediction: the integrator is the speed */
+        int32_t err = err_q16(e, in);
+        int32_t iq = e->iq + mul_gain(err, e->w2);    /* 001: Ki/2^23 Err(n) into the integrator ... */
+        e->iq = iq > 0x3FFFFFFF ? 0x3FFFFFFF : iq < -0x3FFFFFFF ? -0x3FFFFFFF : iq;
+        add_q16(e, mul_gain(err, e->w1));         /* ... and Kp/2^23 Err(n) into the output */
+        e->result = out_rounded(e);
         return;
     }
     case FB_SUM: {
@@ -170,10 +195,21 @@ int ext_fb_setup(unsigned k, uint32_t setup)
     default:
         return ERR_LIMIT;
     }
+    uint32_t was = e->setup;
+    e->setup = 0;
+    int others = 0;
+    for (unsigned i = 0; i < EXT_FB_N; i++)
+        others |= ext_fb[i].setup != 0;
+    if (setup && !ext_fits(((m == FB_EXP || m == FB_TRACK) ? EXT_W_FB_FILTER : EXT_W_FB_SIMPLE) +
+                           (others ? 0 : EXT_W_FB_AXES))) {
+        e->setup = was;
+        return ERR_LOGICAL;                       /* beyond the extensions' budget (ext.h) */
+    }
     e->setup = setup;
     e->started = 0;
     e->result = 0;
-    e->q = e->iq = 0;
+    e->qi = e->iq = 0;
+    e->qf = 0;
     ext_on &= (uint16_t)~EXT_FB_ON;
     for (unsigned i = 0; i < EXT_FB_N; i++)
         if (ext_fb[i].setup)

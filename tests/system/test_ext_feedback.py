@@ -61,3 +61,26 @@ def test_setup_words_are_checked():
     r = sim(BOOT + "\n".join(lines) + "\nrun 10\n", "inc")
     codes = [c for a, c, p in r.resps() if c not in (code("C"),)]
     assert codes == [162, code("FBX"), 162, 162, code("FBW1"), 162, code("FBW1"), code("FBS"), 163], codes
+
+
+@pytest.mark.parametrize("card,refused", [("inc", True), ("ssi", True), ("stp", False)])
+def test_the_budget_refuses_what_the_main_loop_cannot_hold(card, refused):
+    """firmware/ext.h: 2-D tables on four axes fit every card's budget;
+    compares on four axes besides them do not on INC/SSI - the command that
+    would exceed it is refused with 163 and nothing of it is on - and do
+    on the STP (an 8 ms tick)."""
+    lines = []
+    for a in range(4):
+        lines += ["send %d WCRW 1" % a, "send %d WCCL 1" % a, "send %d CDEF" % a] + \
+                 ["send %d CENT 0" % a] * 3 + ["send %d CON 1" % a]
+    lines += ["send %d PCON 1" % a for a in range(4)] + ["send 3 RPCI", "send 0 REXB"]
+    r = sim(BOOT + "\n".join(lines) + "\nrun 10\n", card)
+    con = [c for a, c, p in r.resps() if c in (code("CON"), 163)]
+    assert con[:4] == [code("CON")] * 4
+    pcon = [c for a, c, p in r.resps() if c in (code("PCON"), 163)]
+    budget = [p for a, c, p in r.resps() if c == code("REXB")][0]
+    if refused:
+        assert 163 in pcon, pcon
+        assert (budget & 0xFFFF) <= budget >> 16
+    else:
+        assert pcon == [code("PCON")] * 4, pcon
