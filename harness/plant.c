@@ -1186,19 +1186,24 @@ void plant_format(sim_t *s, int n, char *buf, size_t len)
         snprintf(buf, len,
                 "plant %d pos=%lld %s rev=%.4f vel=%.1f steps/s rate=%u field=%.3fHz en=%d "
                 "generated=%lld lost=%lld sync=%d counter=0x%06X "
-                "lp=%d ln=%d ref=%d df=%d in=0x%04X load=%.3f",
+                "lp=%d ln=%d ref=%d df=%d in=0x%04X",
                 n, (long long)made, unit, out_rev(s, n, now), plant_units_per_s(s, n, now),
                 s->ax[n].rate, stp_field_hz(s, n), drive_enabled(s, n), (long long)p->gen,
                 (long long)(p->gen - p->lost_base - made), p->sync, counter_at(s, n, now), sw[0],
-                sw[1], sw[2], p->drive_fault, in, u + plant_lead_error(p, u));
+                sw[1], sw[2], p->drive_fault, in);
     } else {
         snprintf(buf, len,
                 "plant %d pos=%lld %s rev=%.4f vel=%.1f %s/s rpm=%.1f dac=%d volts=%.3f en=%d "
-                "%s=0x%06X lp=%d ln=%d ref=%d df=%d in=0x%04X load=%.3f",
+                "%s=0x%06X lp=%d ln=%d ref=%d df=%d in=0x%04X",
                 n, (long long)ifloor(u + 0.5), unit, out_rev(s, n, now), plant_units_per_s(s, n, now),
                 unit, plant_motor_rpm(s, n, now), s->ax[n].dac, dac_volts(s, n), drive_enabled(s, n),
                 is_ssi(s) ? "ssi" : "counter",
                 is_ssi(s) ? plant_ssi_value(s, n, now) : counter_at(s, n, now), sw[0], sw[1], sw[2],
-                p->drive_fault, in, u + plant_lead_error(p, u));
+                p->drive_fault, in);
+    }
+    if (p->lead_amp != 0.0 || p->lead_ppm != 0.0) {   /* a leadscrew with an error: where the load is */
+        size_t used = strlen(buf);
+        if (used < len)
+            snprintf(buf + used, len - used, " load=%.3f", u + plant_lead_error(p, u));
     }
 }
