@@ -16,6 +16,7 @@
 #include "measure.h"
 #include "serial.h"
 #include "motion.h"
+#include "ext.h"
 #if MAC4_CARD == MAC4_CARD_STP
 #include "stepper.h"
 #endif
@@ -135,6 +136,7 @@ void axis_init_measurement(unsigned n)
 {
     measure_init(n);
     axes[n].meas_sup = axes[n].meas;
+    ext_axis_init(n);                            /* the extensions follow the new measurement */
 }
 
 /* The part of axis_prepare that follows mode parameters (<mf>): all that
@@ -238,6 +240,7 @@ void card_reset(void)
     vme_irq_waiting = 0;
     cmd_reset();
     serial_reset();
+    ext_reset();                                  /* the extensions off (docs/extensions.md) */
 }
 
 void card_start(void)
@@ -717,6 +720,7 @@ void card_supervise_tick(void)
     supervise_axis(2, phase);
     supervise_axis(3, phase);
     stop_bits();             /* after the reactions: a stop they began keeps its <ed> */
+    ext_supervise();         /* the extensions' slices due (ext.h): one test while all are off */
     /* One axis' DPRAM data per tick: each is fresh every profile period
      * (10 ms / 32 ms), at a quarter of the cost. */
     unsigned prev = hal_irq_save();
@@ -809,6 +813,7 @@ void fw_main_step(void)
         card_supervise();   /* the SP boundary's tick first, wherever the tick hit the pass */
         card_profile_tick();
     }
+    ext_work();              /* one slice of the extensions' work, if due (ext.h) */
     cmd_poll();
     vme_irq_service();
     display_update();

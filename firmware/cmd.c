@@ -22,6 +22,7 @@
 #include "serial.h"
 #include "motion.h"
 #include "measure.h"
+#include "ext.h"
 #if MAC4_CARD == MAC4_CARD_STP
 #include "stepper.h"
 #endif
@@ -32,14 +33,7 @@ enum { CK_NONE, CK_GEN_, CK_MODE, CK_WPAR, CK_READ_, CK_RPAR, CK_DIAG, CK_FIELD 
 #define CK_GEN CK_GEN_
 #define CK_READ CK_READ_
 
-enum {
-#define GEN(mn, code, cards, kind, desc) CI_##mn,
-#define MODESEL(mn, code, cards, mode, desc) CI_##mn,
-#define DIAG(mn, code, cards, units, desc) CI_##mn,
-#define PARAM(id, mn, kind, wcode, cards, flags, min, max, def, units, desc) CI_W_##id, CI_R_##id,
-#include "commands.def"
-    NCMDS
-};
+/* the command indices CI_*: cmd.h */
 _Static_assert(NCMDS <= 256 && NPARAMS <= 256, "cmd_t.arg is a byte");
 
 /* Code -> what it is, in one look-up indexed by the code: the kind
@@ -491,7 +485,7 @@ static int do_general(int ci, unsigned a, uint32_t p)
         return write_param(a, P_AP, (int32_t)t);
     }
     default:
-        return ERR_SYNTAX;
+        return ext_general(ci, a, p);             /* the extensions (ext.h), else 161 */
     }
 }
 
@@ -515,7 +509,7 @@ static uint32_t read_value(cmd_t c, unsigned a)
 #endif
     case CI_RPS: return (uint32_t)(int32_t)(x->prof.vel >> 16);
     case CI_RAS: return card_ostat;
-    default: return 0;
+    default: return ext_read(c.arg, a);
     }
 }
 

@@ -2,6 +2,18 @@
 #ifndef CMD_H
 #define CMD_H
 #include "queue.h"
+#include "status.h"
+
+/* The index of every command of commands.def (cmd.c's table, the
+ * extensions' dispatch in ext.c). */
+enum {
+#define GEN(mn, code, cards, kind, desc) CI_##mn,
+#define MODESEL(mn, code, cards, mode, desc) CI_##mn,
+#define DIAG(mn, code, cards, units, desc) CI_##mn,
+#define PARAM(id, mn, kind, wcode, cards, flags, min, max, def, units, desc) CI_W_##id, CI_R_##id,
+#include "commands.def"
+    NCMDS
+};
 
 void cmd_reset(void);
 void cmd_poll(void);                    /* main loop: handle at most one command */
