@@ -112,7 +112,9 @@ def test_the_interrupt_acknowledge_costs_the_e_clock_synchronisation():
         ticks[iack] = (r["irq"]["timer"]["min"], r["irq"]["timer"]["max"], r["irq"]["timer"]["count"])
     auto, vect = ticks["autovector"], ticks["vectored"]
     diff = mac4map.constant("MAC4_IACK_AUTOVECTOR_CLOCKS") - 4 - mac4map.constant("MAC4_IACK_VECTORED_WAIT")
-    assert auto[2] == vect[2] >= 39
+    # (a tick at the window's edge may fall in one run and not the other: the
+    # two boots differ by the acknowledges' cycles, which shift the window)
+    assert abs(auto[2] - vect[2]) <= 1 and min(auto[2], vect[2]) >= 39
     assert auto[0] - vect[0] == diff and auto[1] - vect[1] == diff, (auto, vect, diff)
 
 
