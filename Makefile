@@ -153,6 +153,19 @@ native: $(NATIVES)
 $(B)/mac4bare: harness/m68k_bare.c hal/mac4_map.h $(MUSOBJ)
 	$(HOSTCC) $(HOSTCFLAGS) -Iharness -Ihal -I$(MUS) -DMUSASHI_CNF='"musashi_cnf.h"' $< $(MUSOBJ) -lm -o $@
 
+# The stock bare core: the same bare-core program on the fetched Musashi
+# WITHOUT any patch of ours (musashi-orig copied, its tables generated), the
+# reference `make bench` sets the emulator's speed against (tools/bench.py).
+MUS_STOCK := $(B)/deps/musashi-stock
+$(MUS_STOCK)/m68kops.c: $(MUS)/.stamp
+	rm -rf $(MUS_STOCK) && cp -r $(B)/deps/musashi-orig $(MUS_STOCK) && rm -f $(MUS_STOCK)/.stamp
+	$(HOSTCC) -O2 -w -o $(MUS_STOCK)/m68kmake $(MUS_STOCK)/m68kmake.c
+	cd $(MUS_STOCK) && ./m68kmake
+$(B)/mac4bare-stock: harness/m68k_bare.c hal/mac4_map.h harness/musashi_cnf.h $(MUS_STOCK)/m68kops.c
+	$(HOSTCC) $(HOSTCFLAGS) -Iharness -Ihal -I$(MUS_STOCK) -DMUSASHI_CNF='"musashi_cnf.h"' $< \
+		$(MUS_STOCK)/m68kcpu.c $(MUS_STOCK)/m68kops.c $(MUS_STOCK)/m68kdasm.c $(MUS_STOCK)/softfloat/softfloat.c \
+		-O2 -w -lm -o $@
+
 # ---- the command dictionary, from firmware/commands.def ---------------------
 $(B)/gen_commands: tools/gen_commands.c firmware/commands.def firmware/status.def firmware/status.h
 	@mkdir -p $(@D)
@@ -178,7 +191,7 @@ differential: all native
 	$(PYTHON) -m pytest -q tests/differential
 timing: all $(B)/busvectors
 	$(PYTHON) -m pytest -q tests/timing
-bench: all $(B)/mac4bare
+bench: all $(B)/mac4bare $(B)/mac4bare-stock
 	$(PYTHON) tools/bench.py
 
 # ---- bus timing: the wait-state model against the 68000 reference vectors ----

@@ -36,6 +36,8 @@ static void usage(FILE *f)
             "                       timer uart virq watchdog axis axis-irq unmapped)\n"
             "  --iack autovector|vectored  interrupt acknowledge (default autovector, via VPA)\n"
             "  --allow-faults       exit 0 even when the emulator saw faults\n"
+            "  --no-fast            every emulator speedup off (same output, slower;\n"
+            "                       docs/performance.md)\n"
             "  --serial-pty         front-panel serial line on a pseudo-terminal (prints\n"
             "                       'serial-pty /dev/pts/N'); after the script the card\n"
             "                       keeps running in real time until the pty is closed\n"
@@ -114,6 +116,8 @@ int main(int argc, char **argv)
             i++;
         } else if (!strcmp(a, "--timestamps")) {
             timestamps = 1;
+        } else if (!strcmp(a, "--no-fast")) {
+            mac4_fast = 0;
         } else if (!strcmp(a, "--allow-faults")) {
             allow_faults = 1;
         } else if (!strcmp(a, "--serial-pty") || (!strcmp(a, "--serial-pty-link") && val)) {
