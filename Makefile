@@ -216,12 +216,19 @@ cppcheck: deps
 # ---- the board description (docs/board.md): board/mac4.toml generates
 # hal/mac4_map.h, harness/bus_map.h and host/mac4card/board.py; `make board`
 # after changing it, `board-check` fails when they differ from it ----------
-.PHONY: board board-check
+.PHONY: board board-check docs-check
 board:
 	$(PYTHON) tools/genboard.py board/mac4.toml
 board-check:
 	$(PYTHON) tools/genboard.py --check board/mac4.toml
 test: board-check
+
+# ---- the generated pages are what their tables give, and every file and
+# name the documentation and the comments mention exists (tools/doccheck.py)
+docs-check: $(B)/commands.json
+	$(PYTHON) tools/commands_md.py --check $(B)/commands.json docs/commands.md
+	$(PYTHON) tools/doccheck.py
+test: docs-check
 
 # native/68000 agreement and the cycle budgets last (docs/performance.md)
 test: differential timing
