@@ -1,13 +1,16 @@
 /*
- * periph.c - the IPC's peripherals and the axis interface board, each a
- * small self-contained model with the register interface of mac4_map.h and
- * its timing driven by the CPU cycle count.
+ * periph.c - the IPC's peripherals, each a small model with the register
+ * interface of mac4_map.h and its timing driven by the CPU cycle count, and
+ * the table of devices (below) through which the scheduler resets them,
+ * asks for their next event, runs their events and reads their interrupt
+ * request lines.  The axis interface board is a device of its own
+ * (axisboard.c); what a wire carries from one device to another is a named
+ * signal (sim.h, SIG_*), wired in periph_connect().
  */
 #include <string.h>
 #include "sim.h"
 #include "periph.h"
 #include "buswait.h"
-#include "plant.h"
 
 static int estop_edge;   /* /STOP is wired to the edge-triggered level 7 (NMI) */
 
@@ -103,19 +106,22 @@ static void tmr_event(sim_t *s, cyc_t now)
                        (unsigned long long)(s->tmr.next / MAC4_CYCLES_PER_US));
         s->tmr.status |= TMR_ST_EXPIRED;
         s->tmr.last = s->tmr.next;
-        /* the SSI receivers set to AX_CTRL_SSI_SYNC freeze their encoders now;
-         * with TMR_CTRL_SSI_WAIT the interrupt waits for the last of them
-         * (on the axis clock of the differential test it does not wait) */
+        /* the expiry line to the axis board: the SSI receivers set to
+         * AX_CTRL_SSI_SYNC freeze their encoders now, and each says how long
+         * it reads (SIG_SSI_BUSY, tmr_ssi_busy) */
         s->tmr.irq_at = s->tmr.last;
-        for (int n = 0; n < MAC4_NAXES; n++)
-            if (s->card == MAC4_CARD_SSI && (s->ax[n].ctrl & AX_CTRL_SSI_SYNC)) {
-                plant_ssi_start(s, n, s->axis_sync ? sim_axis_peek(s) : s->tmr.last);
-                cyc_t end = s->plant.ax[n].ssi_end;
-                if ((s->tmr.ctrl & TMR_CTRL_SSI_WAIT) && !s->axis_sync && end > s->tmr.irq_at)
-                    s->tmr.irq_at = end;
-            }
+        sig_raise(s, SIG_TMR_EXPIRED, s->tmr.last);
         s->tmr.next += US_TO_CYC(s->tmr.period_us ? s->tmr.period_us : 1);
     }
+}
+
+/* An SSI receiver reads until `end`: with TMR_CTRL_SSI_WAIT the interrupt
+ * waits for the last of them (on the axis clock of the differential test it
+ * does not wait). */
+static void tmr_ssi_busy(sim_t *s, uint64_t end)
+{
+    if ((s->tmr.ctrl & TMR_CTRL_SSI_WAIT) && !s->axis_sync && end > s->tmr.irq_at)
+        s->tmr.irq_at = end;
 }
 
 /* ---- UART, 4800 baud 8N1 ------------------------------------------------- */
@@ -256,44 +262,146 @@ void estop_set(sim_t *s, int active)
 int estop_irq_pending(sim_t *s) { (void)s; return estop_edge; }
 void estop_irq_ack(sim_t *s) { (void)s; estop_edge = 0; }
 
-/* ---- all models ---------------------------------------------------------- */
-void periph_reset(sim_t *s)
+/* ---- the devices ---------------------------------------------------------- */
+static void sys_reset(sim_t *s)
 {
     s->display = 0xFF;     /* blank until the firmware writes */
     s->leds = 0;
     s->sysctl = SYS_CTRL_OVERLAY;
+}
+
+static void tmr_reset(sim_t *s)
+{
     memset(&s->tmr, 0, sizeof s->tmr);
     s->tmr.next = CYC_NEVER;
+}
+
+static cyc_t tmr_next_event(sim_t *s)
+{
+    cyc_t t = s->tmr.next;
+    if ((s->tmr.status & TMR_ST_EXPIRED) && s->tmr.irq_at > s->tmr.last && s->tmr.irq_at > sim_now(s) &&
+        s->tmr.irq_at < t)
+        t = s->tmr.irq_at;                      /* the delayed request (TMR_CTRL_SSI_WAIT) */
+    return t;
+}
+
+static unsigned tmr_irq_lines(sim_t *s)
+{
+    return (s->tmr.status & TMR_ST_EXPIRED) && (s->tmr.ctrl & TMR_CTRL_IE) &&
+           (s->tmr.irq_at <= s->tmr.last || sim_now(s) >= s->tmr.irq_at)   /* TMR_CTRL_SSI_WAIT */
+           ? 1u << IRQ_LEVEL_TIMER : 0;
+}
+
+static void uart_reset(sim_t *s)
+{
     uart_t *u = &s->uart;
     u->ctrl = 0;
     u->rx_full = u->overrun = u->framing = 0;
     u->tx_busy = 0;
     u->tx_done = CYC_NEVER;
     u->rx_done = (u->wire_head != u->wire_tail) ? sim_now(s) + UART_CHAR_CYC : CYC_NEVER;
+}
+
+static cyc_t uart_next_event(sim_t *s) { return s->uart.rx_done < s->uart.tx_done ? s->uart.rx_done : s->uart.tx_done; }
+
+static unsigned uart_irq_lines(sim_t *s)
+{
+    if ((s->uart.ctrl & UART_CTRL_RXIE) && (s->uart.rx_full || s->uart.overrun))
+        return 1u << IRQ_LEVEL_UART;
+    if ((s->uart.ctrl & UART_CTRL_TXIE) && !s->uart.tx_busy)
+        return 1u << IRQ_LEVEL_UART;
+    return 0;
+}
+
+static void vme_reset(sim_t *s)
+{
     s->vme.pending = 0;
     s->vme.page = 0;
     s->vme.berr = 0;
+}
+
+static cyc_t vme_next_event(sim_t *s) { return s->vme.pending ? s->vme.iack_at : CYC_NEVER; }
+
+static void vme_event(sim_t *s, cyc_t now)
+{
+    if (s->vme.pending && s->vme.iack_at <= now) {
+        s->vme.pending = 0;
+        s->vme_irqs++;
+        sim_printf(s, "vme-irq %u %u\n", s->vme.level, s->vme.vector);
+    }
+}
+
+static void wdg_reset(sim_t *s)
+{
     s->wdg.deadline = sim_now(s) + US_TO_CYC(WDG_TIMEOUT_US);
     s->wdg.reset_pending = 0;
-    estop_edge = s->estop;   /* an active /STOP at reset is seen at once */
-    axisboard_reset(s);
+}
+
+static cyc_t wdg_next_event(sim_t *s) { return s->wdg.j11 ? s->wdg.deadline : CYC_NEVER; }
+
+static void wdg_event(sim_t *s, cyc_t now)
+{
+    if (s->wdg.j11 && s->wdg.deadline <= now)
+        s->wdg.reset_pending = 1;
+}
+
+static void estop_reset(sim_t *s) { estop_edge = s->estop; }   /* an active /STOP at reset is seen at once */
+
+static unsigned estop_irq_lines(sim_t *s) { (void)s; return estop_edge ? 1u << IRQ_LEVEL_ESTOP : 0; }
+
+static const device_t sys_device = {"sys", sys_reset, NULL, NULL, NULL};
+static const device_t tmr_device = {"timer", tmr_reset, tmr_next_event, tmr_event, tmr_irq_lines};
+static const device_t uart_device = {"uart", uart_reset, uart_next_event, uart_event, uart_irq_lines};
+static const device_t vme_device = {"virq", vme_reset, vme_next_event, vme_event, NULL};
+static const device_t wdg_device = {"watchdog", wdg_reset, wdg_next_event, wdg_event, NULL};
+static const device_t estop_device = {"estop", estop_reset, NULL, NULL, estop_irq_lines};
+
+/* The card's devices, in the order of their reset and of their events. */
+static const device_t *const devices[] = {
+    &sys_device, &tmr_device, &uart_device, &vme_device, &wdg_device, &estop_device, &axisboard_device,
+};
+#define NDEVICES (sizeof devices / sizeof devices[0])
+
+/* ---- the signals between them ---------------------------------------------- */
+void sig_connect(sim_t *s, int sig, sim_sig_hook_t hook)
+{
+    sim_sig_t *g = &s->sig[sig];
+    if (g->n < SIM_SIG_HOOKS)
+        g->hook[g->n++] = hook;
+}
+
+void sig_raise(sim_t *s, int sig, uint64_t value)
+{
+    const sim_sig_t *g = &s->sig[sig];
+    for (unsigned i = 0; i < g->n; i++)
+        g->hook[i](s, value);
+}
+
+void periph_connect(sim_t *s)
+{
+    static const char *const names[SIG_COUNT] = {"timer.expired", "axis.ssi_busy"};
+    for (int i = 0; i < SIG_COUNT; i++) {
+        s->sig[i].name = names[i];
+        s->sig[i].n = 0;
+    }
+    axisboard_connect(s);                       /* timer.expired -> the SSI receivers */
+    sig_connect(s, SIG_SSI_BUSY, tmr_ssi_busy);
+}
+
+/* ---- all devices ------------------------------------------------------------ */
+void periph_reset(sim_t *s)
+{
+    for (unsigned i = 0; i < NDEVICES; i++)
+        devices[i]->reset(s);
 }
 
 /* Every request line (the waveform shows them one by one, vcd.c). */
 unsigned sim_irq_lines(sim_t *s)
 {
     unsigned l = 0;
-    if (estop_edge)
-        l |= 1u << IRQ_LEVEL_ESTOP;
-    if ((s->tmr.status & TMR_ST_EXPIRED) && (s->tmr.ctrl & TMR_CTRL_IE) &&
-        (s->tmr.irq_at <= s->tmr.last || sim_now(s) >= s->tmr.irq_at))   /* TMR_CTRL_SSI_WAIT */
-        l |= 1u << IRQ_LEVEL_TIMER;
-    if (axis_irq_rd(s, 0, 2))
-        l |= 1u << IRQ_LEVEL_AXIS;
-    if ((s->uart.ctrl & UART_CTRL_RXIE) && (s->uart.rx_full || s->uart.overrun))
-        l |= 1u << IRQ_LEVEL_UART;
-    if ((s->uart.ctrl & UART_CTRL_TXIE) && !s->uart.tx_busy)
-        l |= 1u << IRQ_LEVEL_UART;
+    for (unsigned i = 0; i < NDEVICES; i++)
+        if (devices[i]->irq_lines)
+            l |= devices[i]->irq_lines(s);
     return l;
 }
 
@@ -317,33 +425,21 @@ int sim_irq_source(int level)
     return SRC_OTHER;
 }
 
-static cyc_t min_cyc(cyc_t a, cyc_t b) { return a < b ? a : b; }
-
 cyc_t periph_next_event(sim_t *s)
 {
-    cyc_t t = s->tmr.next;
-    if ((s->tmr.status & TMR_ST_EXPIRED) && s->tmr.irq_at > s->tmr.last && s->tmr.irq_at > sim_now(s))
-        t = min_cyc(t, s->tmr.irq_at);          /* the delayed request (TMR_CTRL_SSI_WAIT) */
-    t = min_cyc(t, s->uart.rx_done);
-    t = min_cyc(t, s->uart.tx_done);
-    if (s->vme.pending)
-        t = min_cyc(t, s->vme.iack_at);
-    if (s->wdg.j11)
-        t = min_cyc(t, s->wdg.deadline);
-    t = min_cyc(t, axisboard_next_event(s));
+    cyc_t t = CYC_NEVER;
+    for (unsigned i = 0; i < NDEVICES; i++)
+        if (devices[i]->next_event) {
+            cyc_t e = devices[i]->next_event(s);
+            if (e < t)
+                t = e;
+        }
     return t;
 }
 
 void periph_events(sim_t *s, cyc_t now)
 {
-    tmr_event(s, now);
-    uart_event(s, now);
-    if (s->vme.pending && s->vme.iack_at <= now) {
-        s->vme.pending = 0;
-        s->vme_irqs++;
-        sim_printf(s, "vme-irq %u %u\n", s->vme.level, s->vme.vector);
-    }
-    if (s->wdg.j11 && s->wdg.deadline <= now)
-        s->wdg.reset_pending = 1;
-    axisboard_events(s, now);
+    for (unsigned i = 0; i < NDEVICES; i++)
+        if (devices[i]->events)
+            devices[i]->events(s, now);
 }
