@@ -62,6 +62,8 @@ MUSCFLAGS := -std=gnu99 -O2 -g -w -I$(MUS) -Iharness -Ihal -DMUSASHI_CNF='"musas
 BENCH_SRCS := harness/gdbstub.c harness/bench_script.c harness/panel.c
 HARNESS_CORE := harness/sim.c harness/bus.c harness/periph.c harness/axisboard.c harness/host.c harness/run.c \
                 harness/plant.c harness/plant_vme.c harness/buswait.c harness/vcd.c
+# the devices of periph.c's table, a file each
+HARNESS_CORE += harness/sysctl.c harness/timer.c harness/uart.c harness/virq.c
 HARNESS_SRCS := $(HARNESS_CORE) \
                 harness/script.c harness/script_serial.c harness/serial_host.c harness/script_plant.c harness/cpu_m68k.c harness/profile.c harness/cmdnames.c harness/mac4sim.c \
                 harness/perf.c $(BENCH_SRCS)

@@ -1,4 +1,5 @@
-/* periph.h - register interfaces of the peripheral models (periph.c). */
+/* periph.h - the devices of the card (periph.c's table) and their register
+ * interfaces. */
 #ifndef PERIPH_H
 #define PERIPH_H
 #include "sim.h"
@@ -31,6 +32,13 @@ typedef struct {
     void (*events)(sim_t *s, cyc_t now);
     unsigned (*irq_lines)(sim_t *s);
 } device_t;
+
+/* the devices, each in a file of its own */
+extern const device_t sys_device, wdg_device, estop_device;   /* sysctl.c */
+extern const device_t tmr_device;                              /* timer.c */
+extern const device_t uart_device;                             /* uart.c */
+extern const device_t vme_device;                              /* virq.c */
+void timer_connect(sim_t *s);              /* its end of the SSI receivers' busy line */
 
 /* axisboard.c */
 extern const device_t axisboard_device;
