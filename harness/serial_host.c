@@ -1,7 +1,7 @@
 /*
  * serial_host.c - the far end of the card's front-panel serial line.
  *
- * Towards the card, bytes go through uart_feed() (periph.c), which times
+ * Towards the card, bytes go through uart_feed() (uart.c), which times
  * every character on the wire (2.083 ms at 4800 8N1).  Bytes the card sends
  * arrive one by one through the UART's on_tx callback, at the cycle their
  * stop bit ends; they are collected into groups printed as

@@ -49,7 +49,7 @@ $(B)/fuzz/$(1)-$(2)/rt_%.o: hal/target/%.c $(FZ_DEPS)
 $(B)/fuzz/$(1)-$(2)/replay.o: tests/fuzz/replay.c
 	@mkdir -p $$(@D)
 	@echo "  $(1)-FZ  $$@"; $$(FZ_CC_$(1)) $$(FZ_CFLAGS_$(1)) -c $$< -o $$@
-$(B)/fuzz/$(1)-$(2)/fuzz_hal.o: tests/fuzz/fuzz_hal.c hal/native/hal_native.c $(FZ_DEPS)
+$(B)/fuzz/$(1)-$(2)/fuzz_hal.o: tests/fuzz/fuzz_hal.c harness/hal_native.c $(FZ_DEPS)
 	@mkdir -p $$(@D)
 	@echo "  $(1)-FZ  $$@"; $$(FZ_CC_$(1)) $$(FZ_CFLAGS_$(1)) -DMAC4_CARD=$(card_$(2)) -c $$< -o $$@
 endef

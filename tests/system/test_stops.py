@@ -30,26 +30,14 @@ import os
 import pytest
 
 from conftest import BOOT, sim
-from mac4 import BIT, MODE, code
+from mac4 import BIT, MODE, TICK_MS, axis_addr, board, code, sb, stop_line, ub
 
-TICK_MS = {"inc": 2.5, "ssi": 2.5, "stp": 8.0}
-SP_MS = {"inc": 10.0, "ssi": 10.0, "stp": 32.0}
+SP_MS = {c: TICK_MS[c] * board.PROFILE_DIVIDER for c in TICK_MS}     # the profile generator's period
 # the speed of the sweep: INC/SSI 100 Inc/SP (10 000 Inc/s, the figure), STP 2000 Hz
 V = {"inc": 100, "ssi": 100, "stp": 2000}
 ED = 5000                                     # <ed> default: Inc/SP^2
 ED_STP = 2000                                 # STP: Hz/SP, 500 Hz per tick, below the motor's 1000 Hz
 STP_STEPS_SP = 0.032                          # steps per SP of 32 ms per Hz
-
-
-def ub(*names):
-    v = 0
-    for n in names:
-        v |= 1 << BIT["user"][n]
-    return v
-
-
-def sb(name):
-    return 1 << BIT["system"][name]
 
 
 def pre(card):
@@ -225,7 +213,7 @@ CAUSES = [
     Cause("mre", "rest", None, inject=("send 0 MRE", "send 0 E")),
     Cause("deinit", "rest", None, inject=("send 0 DEINIT",)),
     Cause("watchdog", "rest", ("card", 164, 0), inject=("send 0 WWD 30",)),
-    Cause("stop-bit", "hold", None, inject=("poke16 0x4600 0x0002",), mode_after="brake"),
+    Cause("stop-bit", "hold", None, inject=(stop_line(0),), mode_after="brake"),
     Cause("hwl", "hold", ("axis", 163, ub("hwl_p", "logo_f")), setup=("switch 0 lp AHEAD",), mode_after="brake",
           bits=("hwl_p",)),
     Cause("swl", "rest", ("axis", 163, ub("swl_p", "logo_f")), setup=("send 0 UWLP AHEAD",), modes=JUSTIFY,
@@ -525,11 +513,11 @@ def test_reads_run_and_c_right_after_the_error_acknowledges_it(card, fault):
 @pytest.mark.parametrize("card", ("inc", "ssi", "stp"))
 def test_m_rdy_from_the_boot_until_mr(card):
     # after MR the card takes no command: its published system status (DPA_SSTAT) shows it
-    r = cmds(["send 0 RSS", "send 3 RSS", "run 40", "peek32 0x3C04", "jumper j11 in", "send 1 MR", "run 50", "peek32 0x3C04"],
-             card)
+    sstat = "peek32 0x%X" % axis_addr(3, "SSTAT")
+    r = cmds(["send 0 RSS", "send 3 RSS", "run 40", sstat, "jumper j11 in", "send 1 MR", "run 50", sstat], card)
     ss = [p for _, c, p in r.resps() if c == code("RSS")]
     assert len(ss) == 2 and all(p & sb("m_rdy") for p in ss), ss   # command operational
-    pub = [int(l.split()[2], 16) for l in r.grep(r"^peek32 0x3C04 ")]
+    pub = [int(l.split()[2], 16) for l in r.grep("^%s " % sstat)]
     assert pub[0] & sb("m_rdy") and not pub[1] & sb("m_rdy"), pub   # MR accepted: no more commands
 
 
