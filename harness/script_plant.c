@@ -17,9 +17,8 @@ static int parse_axis(script_t *sc, const char *t, int *n)
 
 static int parse_double(script_t *sc, const char *t, double *out, double min, double max)
 {
-    char *end;
-    double v = strtod(t, &end);
-    if (end == t || *end || !(v >= min && v <= max))
+    double v;
+    if (script_parse_real(t, &v) || !(v >= min && v <= max))
         return script_err(sc, "bad or out-of-range number '%s'", t);
     *out = v;
     return 0;
@@ -463,12 +462,15 @@ static int cmd_include(script_t *sc, sim_t *s, char **tok, int nt)
     FILE *f = open_beside(sc->name, tok[1], path, sizeof path);
     if (!f)
         return script_err(sc, "include: cannot open '%s'", tok[1]);
+    if (script_check_file(f)) {
+        fclose(f);
+        return script_err(sc, "include: '%s' is a directory", tok[1]);
+    }
     script_t inner = {path, 0, 0};
-    char buf[1024];
+    char buf[SCRIPT_LINE_MAX + 2];
     int r = 0;
     include_depth++;
-    while (fgets(buf, sizeof buf, f)) {
-        inner.line++;
+    while (script_getline(&inner, f, buf) > 0) {
         r = script_line(&inner, s, buf);
         if (r > 0)
             break;

@@ -58,7 +58,8 @@ def _corrupt(tmp_path, card, offset):
 def test_one_byte_change_stops_at_checksum(tmp_path, offset):
     bad = _corrupt(tmp_path, "inc", offset)
     r = sim("run 3000\npeek32 0x4004\npeek32 0x4008\npeek32 0x400C\nqueues\n", img=bad)
-    assert r.rc == 0, r.stderr                 # the card stops cleanly, no emulator fault
+    # the card stops cleanly, no emulator fault: exit status 4, the card stopped
+    assert r.rc == 4 and not r.faults() and "stopped with the display at 3." in r.stderr, r.stderr
     assert r.displays() == ["1", "2", "3", "3."]
     assert r.peek(0x4004) == 3                 # the host can read why
     assert r.grep(r"^queue command .* nel=\$A") == []  # never became ready
