@@ -234,7 +234,7 @@ int main(int argc, char **argv)
     }
     if (gdb_port >= 0 && gdbstub_attach(&card, gdb_port))
         return 1;
-    script_t sc = {script, 0, 0};
+    script_t sc = {script, 0, 0, 0};
     int errors = serial_host_script_run(&sc, &card, in);
     if (in != stdin)
         fclose(in);

@@ -7,6 +7,7 @@ typedef struct {
     const char *name;
     int line;
     int errors;
+    int depth;           /* include nesting: 0 the script itself */
 } script_t;
 
 int script_line(script_t *sc, sim_t *s, char *line);   /* 1 on quit, -1 on error */

@@ -435,7 +435,6 @@ static int cmd_trace(script_t *sc, sim_t *s, char **tok, int nt)
  * scenarios, tests/scenarios/).  A relative FILE is looked for beside the
  * including script first, then in the current directory. */
 #define INCLUDE_DEPTH 8
-static int include_depth;
 
 static FILE *open_beside(const char *including, const char *file, char *used, size_t len)
 {
@@ -456,7 +455,7 @@ static int cmd_include(script_t *sc, sim_t *s, char **tok, int nt)
 {
     if (nt != 2)
         return script_err(sc, "usage: %s", "include FILE");
-    if (include_depth >= INCLUDE_DEPTH)
+    if (sc->depth >= INCLUDE_DEPTH)
         return script_err(sc, "include: nested deeper than 8 (a loop?) at '%s'", tok[1]);
     char path[2048];
     FILE *f = open_beside(sc->name, tok[1], path, sizeof path);
@@ -466,16 +465,14 @@ static int cmd_include(script_t *sc, sim_t *s, char **tok, int nt)
         fclose(f);
         return script_err(sc, "include: '%s' is a directory", tok[1]);
     }
-    script_t inner = {path, 0, 0};
+    script_t inner = {path, 0, 0, sc->depth + 1};
     char buf[SCRIPT_LINE_MAX + 2];
     int r = 0;
-    include_depth++;
     while (script_getline(&inner, f, buf) > 0) {
         r = script_line(&inner, s, buf);
         if (r > 0)
             break;
     }
-    include_depth--;
     fclose(f);
     sc->errors += inner.errors;      /* reported with the included file's name and line */
     return r > 0 ? 1 : inner.errors ? -1 : 0;
