@@ -200,7 +200,7 @@ class Coverage:
         return self.new
 
 
-def campaign(target, seconds=None, iterations=None, seed=1, quiet=False):
+def campaign(target, seconds=None, iterations=None, seed=1, crash_dir=os.path.join(BUILD, "fuzz")):
     fn = TARGETS[target]
     rnd = random.Random(seed)
     cov = Coverage()
@@ -217,8 +217,8 @@ def campaign(target, seconds=None, iterations=None, seed=1, quiet=False):
                 if new:
                     pool.append(data)
             except Finding as e:
-                os.makedirs(os.path.join(BUILD, "fuzz"), exist_ok=True)
-                keep = os.path.join(BUILD, "fuzz", "crash-host-%s-%d" % (target, execs))
+                os.makedirs(crash_dir, exist_ok=True)
+                keep = os.path.join(crash_dir, "crash-host-%s-%d" % (target, execs))
                 with open(keep, "wb") as f:
                     f.write(data)
                 print("PROPERTY VIOLATED (%s): %s\n  input %s (kept as %s)"

@@ -275,10 +275,10 @@ SCRIPT.update({
 })
 
 IMAGE = {
-    "inc": b"\4", "ssi": b"\5", "stp": b"\6",                        # the build's images
-    "inc-one-byte": b"\4\x80\x00\x01",                                # a change the checksum sees
-    "ssi-crc-word": b"\5\xff\xfc\xff\xff\xfd\xff",                    # the CRC word itself
-    "stp-vectors": b"\6\x00\x04\xff\x00\x05\xff",                    # the reset PC
+    "inc": b"\6", "ssi": b"\4", "stp": b"\5",                        # the build's images (mode & 4)
+    "inc-one-byte": b"\6\x80\x00\x01",                                # a change the checksum sees
+    "ssi-crc-word": b"\4\xff\xfc\xff\xff\xfd\xff",                    # the CRC word itself
+    "stp-vectors": b"\5\x00\x04\xff\x00\x05\xff",                    # the reset PC
     "empty": b"\0",
     "tiny": b"\0\x4e\x71",
     "too-large": b"\x08\x4e\x71",
