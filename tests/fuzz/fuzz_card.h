@@ -436,11 +436,12 @@ static inline uint32_t fz_param(fz_in_t *in)
  * off-fly move wait there, at most CMD_HOLD_MAX of them; once the moves have
  * ended they are released one per main-loop pass, oldest first, each answered
  * once (with 163 when the stop's error waits to be reported), and a read such
- * as VER is never held.  The repair empties both queues, so one VER asked once
- * is answered after at most CMD_HOLD_MAX other answers (and one the card could
- * not put into a full response queue), within FZ_STOP_PASSES passes for the
- * moves to stop plus one pass per held command.  Only a watchdog reset, which
- * clears the queues, is a reason to ask again. */
+ * as VER is never held.  The repair empties both queues, and only a command
+ * taken is answered (a response that finds the queue full is counted in
+ * DPC_RSP_LOST, not kept), so one VER asked once is answered after at most
+ * CMD_HOLD_MAX other answers, within FZ_STOP_PASSES passes for the moves to
+ * stop plus one pass per held command.  Only a watchdog reset, which clears
+ * the queues, is a reason to ask again. */
 #define FZ_STOP_PASSES 2000         /* 0.5 s at 250 us: every stop ramp is shorter */
 static inline void fz_final_ver_vme(cyc_t pass_cyc)
 {
@@ -468,7 +469,7 @@ static inline void fz_final_ver_vme(cyc_t pass_cyc)
                     return;
                 }
                 others++;       /* a held command answered now */
-                FZ_CHECK(others <= CMD_HOLD_MAX + 1, "%u answers before VER's, more than %u held commands",
+                FZ_CHECK(others <= CMD_HOLD_MAX, "%u answers before VER's, more than %u held commands",
                          others, CMD_HOLD_MAX);
                 continue;       /* the next answer may be in the queue already */
             }
