@@ -60,6 +60,8 @@ typedef struct {
     int32_t stop_flast;     /* ... at the last supervision */
     int32_t stop_vlast;     /* |RAV| at the last supervision */
     uint8_t stop_grow;      /* supervised ticks in a row it grew beyond stop_f0, the speed not falling */
+    uint8_t stop_ferr;      /* the stop is the reaction to a following error: a guard that ends
+                             * it raises nothing more (the error was raised once, C may have come) */
     uint8_t idx_seen;   /* index latched during a search */
     uint16_t trt_count;
     uint16_t trt_periods;

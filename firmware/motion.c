@@ -151,10 +151,16 @@ void motion_hold(unsigned n)
  * generator takes over again once the tick stands (motion_profile_tick). */
 static void brake_now(axis_t *x, int64_t dec_sp)
 {
-    if (x->braking)
-        return;
     int64_t dec = dec_sp >> 4;
-    x->br_dec = dec < 1 ? 1 : dec > INT32_MAX ? INT32_MAX : (int32_t)dec;
+    int32_t d = dec < 1 ? 1 : dec > INT32_MAX ? INT32_MAX : (int32_t)dec;
+    if (x->braking) {
+        /* a stop during a brake (a limit switch or a following error while
+         * a stop bit brakes with <pd>): the stronger ramp from here */
+        if (d > x->br_dec)
+            x->br_dec = d;
+        return;
+    }
+    x->br_dec = d;
 #if MAC4_CARD != MAC4_CARD_STP
     int64_t pos = (int64_t)x->setpoint * 65536;
     int32_t v = x->sp_vel / 4;
@@ -233,8 +239,11 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
 #endif
     x->done = 0;
     x->phase = 0;
-    x->stop_then = STOP_NONE;
-    x->stop_settle = 0;
+    if (!(mode == M_RESET && x->stop_then >= STOP_DISABLE)) {
+        /* (an MRE during a stop that disables: that stop goes on, guards and all) */
+        x->stop_then = STOP_NONE;
+        x->stop_settle = 0;
+    }
     x->trt_count = 0;
     x->trt_periods = p->trt_periods;
     switch (mode) {
@@ -284,6 +293,7 @@ void motion_emergency(unsigned n, uint8_t then)
         x->stop_f0 = x->stop_flast = e;
         x->stop_vlast = 0;
         x->stop_grow = 0;
+        x->stop_ferr = 0;
         x->stop_ticks = 0;
         x->stop_rest = 0;
         x->stop_limit = 0;
@@ -517,7 +527,11 @@ static int stop_watch(axis_t *x, unsigned n)
         if (!over && x->stop_ticks <= x->stop_limit)
             return 0;
     }
-    axis_error(n, UB(FERR_F), ERR_LOGICAL);      /* runaway or too slow: open /EN now */
+    /* runaway or too slow: open /EN now, a following error - but not a
+     * second one when the stop is the following error's own reaction: that
+     * was raised once, and a C during the braking has acknowledged it */
+    if (!x->stop_ferr)
+        axis_error(n, UB(FERR_F), ERR_LOGICAL);
     stop_done(n);
     return 1;
 }
@@ -809,6 +823,7 @@ void motion_supervise(unsigned n)
         if (x->ferr > mf || x->ferr < -mf) {     /* 4.8.1, 6.3.9 */
             axis_error(n, UB(FERR_F), ERR_LOGICAL);
             motion_emergency(n, STOP_DISABLE);
+            x->stop_ferr = 1;                    /* raised once: its guard raises nothing more */
         } else if (x->linear && (x->pos > x->lp || x->pos < x->ln)) {
             x->ustat |= x->pos > x->lp ? UB(SWL_P) : UB(SWL_N);
             axis_error(n, UB(LOGO_F), ERR_LOGICAL);   /* 4.3.1.1: braked and disabled; C first (6.3) */
@@ -818,7 +833,12 @@ void motion_supervise(unsigned n)
              * every mode (test mode: card.c); find edge may run into the one
              * limit switch it looks for (<dl> 1, 2), to its edge */
             int64_t v = x->prof.vel;
-            uint32_t into = x->ustat & (v > 0 ? UB(HWL_P) : v < 0 ? UB(HWL_N) : 0);
+            int dir = v > 0 ? 1 : v < 0 ? -1 : 0;
+#if MAC4_CARD == MAC4_CARD_STP
+            if (!dir)
+                dir = stp_creep_dir(n);          /* the creep phase's pulses (5.6): the profile stands */
+#endif
+            uint32_t into = x->ustat & (dir > 0 ? UB(HWL_P) : dir < 0 ? UB(HWL_N) : 0);
             if (x->mode == M_FIND_EDGE) {
                 int32_t dl = PAR(n, DL);
                 into &= ~(dl == 1 ? UB(HWL_N) : dl == 2 ? UB(HWL_P) : 0);

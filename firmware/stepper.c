@@ -492,6 +492,14 @@ static inline __attribute__((always_inline)) int creep_tick(axis_t *x, stp_t *s,
     return 1;
 }
 
+/* The direction of the creep phase's pulses while they run (the profile
+ * stands meanwhile): for the limit switches (motion_supervise). */
+int stp_creep_dir(unsigned n)
+{
+    const stp_t *s = &stp_ax[n];
+    return s->creep == CREEP_RUN ? s->creep_dir : 0;
+}
+
 /* ---- motion (motion.c, main loop) ----------------------------------------- */
 void stp_motion_plan(unsigned n, int64_t ssf, stp_plan_t *pl)
 {

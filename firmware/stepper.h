@@ -149,6 +149,7 @@ static inline __attribute__((always_inline)) int32_t stp_measured(unsigned n, in
 int32_t stp_counts(unsigned n);               /* position counter in its units (RCPI) */
 int32_t stp_edge(unsigned n, int32_t d);      /* index latched d counts from here: steps */
 int32_t stp_tol(unsigned n);                  /* steps the encoder ratio leaves open */
+int stp_creep_dir(unsigned n);                /* a creep phase's direction while it runs, else 0 */
 /* motion (motion.c) */
 /* E: the parameters' part, unmasked (motion_plan: from the activated
  * parameters and TURBO, which only commands change), then the commit,

@@ -263,6 +263,7 @@ def watch(s, before):
     the injection point @inject, which lies on a tick expiry."""
     s("perf ticks -", "run-ticks %d" % before)
     s.mark("inject")
+    s("plant")                                       # where the mechanics are (stop_distance)
 
 
 # ---- the scenarios: build(s, card, variant) -> the event locator --------------------
@@ -672,21 +673,10 @@ ALL = ("inc", "ssi", "stp")
 AXES4 = (0, 1, 2, 3)
 RAMP = {"drop", "off"}            # a reaction with the <ed> ramp: braking or already disabled
 
-# The firmware bugs the matrix shows (docs/hardening.md, "Fault matrix"): the
-# strict xfails below fail only with the findings they name.
-K2 = ("K2: an absolute position outside <ec> raises encoder_f and the report 163 again in every tick "
-      "while the value stays (measure.c, measure_ext -> axis_error): the RBS after the report is answered "
-      "163 again, and so is C (not executed) until the host's encoder is valid again")
-K4 = ("K4: q_check() validates the command queue header, then q_get() reads front and rear again: a host "
-      "write in between makes the card take an element at an unchecked index (one past the queue, the "
-      "header itself, or a stale element answered a second time) before it sees the corruption")
-K6 = ("K6: protective reactions act through the profile generator, which works one SP ahead: the <ed> ramp "
-      "(with <ed> above the speed: the disable) starts at the next SP boundary or the one after, %s "
-      "after the event; bound: the output of the tick after it")
-K7 = ("K7: the limit switch is reported with 163 but sets no error bit, so the next command (ME) is "
-      "executed without C (6.3: a reported error must first be acknowledged with C)")
-
-
+# A row whose fault shows a firmware bug names it in `known` (known(): the
+# findings and the reason per card), a strict xfail that fails only with the
+# findings it names; none is open (the fixed ones: docs/hardening.md, "Fault
+# matrix", Findings).
 def known(findings, reason, cards=ALL):
     return {c: (findings, reason) for c in cards}
 
@@ -697,7 +687,7 @@ MATRIX = [
         state={n: ("disable", ()) for n in AXES4}, after={0: ("disable", ())},
         display="E", leds={"D": AXES4, "stop": 1}, timing=((AXES4, {"off"}, 1),), at_once=True,
         repair=("estop off",)),
-    # K7 fixed: the report sets logo_f, so C comes first (display 8 until then)
+    # the limit reports set logo_f, so C comes first (display 8 until then)
     Row("hwl-move", "positive limit switch reached during a move", ALL, "2.2.3, 4.8.2",
         b_hwl_move, err=("axis", 163, ub("hwl_p", "logo_f")),
         state={0: ("brake", ("hwl_p", "logo_f")), 1: ("enable", ())}, after={0: ("brake", ("hwl_p",))},
@@ -937,6 +927,34 @@ def reaction_tick(out, card, n, e, signals):
     return None
 
 
+def plant_at(out, mark, n):
+    """(position, velocity) of axis n in the first `plant` print after a mark."""
+    for _, text in out.between(mark):
+        if text.startswith("plant %d " % n):
+            return float(text.split("pos=")[1].split()[0]), float(text.split("vel=")[1].split()[0])
+    raise KeyError("plant %d after @%s" % (n, mark))
+
+
+def stop_distance(out, card, row, ev):
+    """How far the mechanics of the row's first axis moved from the fault
+    to where they came to rest 1.5 s after the reaction (docs/hardening.md,
+    the fault matrix's column), and their speed then.  From the plant at the
+    injection - the fault itself (a drive fault, a jam, a frozen or jumping
+    encoder, the emergency stop, a move into the switch) - or from the switch
+    a move crosses, or from the plant carried on at its speed to the tick in
+    which the watchdog expires."""
+    n = row.timing[0][0][0]
+    p0, v0 = plant_at(out, "inject", n)
+    kind = ev["event"][0]
+    if kind == "cross":
+        p0 = ev["event"][2]
+    elif kind == "after_last":
+        e_inj = [t["no"] for t in out.ticks if t["ev"] < out.marks["inject"]][-1]
+        p0 += v0 * (event_tick(out, card, ev["event"]) - e_inj) * TICK_MS[card] / 1000.0
+    rest, v_end = plant_at(out, "state", n)
+    return round(rest - p0), v_end
+
+
 def check_timing(chk, out, card, row, ev, info):
     """Event at tick e (the sampling instant at which the firmware can first
     see it); the reaction in line r.  r - e = 1: in the outputs of the tick
@@ -974,6 +992,8 @@ def run_variant(row, card, v, info):
     s.mark("state")
     s("outputs", "leds", "peek32 0x%X" % pos_addr(0), "peek32 0x%X" % pos_addr(1), "run 40",
       "peek32 0x%X" % pos_addr(0), "peek32 0x%X" % pos_addr(1))
+    if row.timing:
+        s("run 1500", "plant")                       # at rest by now, coasting included (stop_distance)
     if row.probe:
         add_probe(s, row)
     if row.post:
@@ -1036,6 +1056,10 @@ def run_variant(row, card, v, info):
     chk(ver is not None and ver[2] == VER and ver[3] >> 24 == CARD_NO[card], "VER at the end: %s" % (ver,))
     if row.timing:
         check_timing(chk, out, card, row, ev, info)
+        d, v_end = stop_distance(out, card, row, ev)
+        chk(abs(v_end) < 1, "axis %d still moving 1.5 s after the reaction: %.1f units/s" % (
+            row.timing[0][0][0], v_end))
+        info.setdefault("stop_distance", []).append(d)
     if row.extra:
         try:
             row.extra(out, card, v, info)

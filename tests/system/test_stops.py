@@ -6,18 +6,22 @@ shows where the mechanics come to rest, whether the drive was enabled until
 they stood, and the status bits and the report that follow.
 
 * `test_stop_sweep`: every cause x every mode in which it can happen x every
-  card.  Stops that disable on MAC4-INC/SSI (MRE, DEINIT, watchdog, leaving a
-  software limit, following error) open /EN only with the mechanics at rest
-  (|speed| <= 1 Inc per tick), within the distance that the reaction delay
-  (two ticks at speed), the <ed> ramp and the following lag allow; stops that
-  hold (limit switch, stop bits) stand in mode brake within it; the drive
-  fault and the emergency stop disable (the mechanics coast: the distance is
-  reported, not bounded); on the STP (open loop) the steps ramp with <ed> to
-  <ssf> and stop, and not one step is lost.  Each run prints a `STOP` line;
-  its figures are the stopping-distance column of docs/hardening.md.
-* the runaway guards: reversed motor wiring, a frozen encoder, a motor that
-  cannot follow <ed>: /EN opens at once with ferr_f, and the mechanics stop
-  near where the fault began.
+  card: speed, positioning, velocity and position tracking, find edge, home
+  and the two searches (INC, STP with an encoder), on-fly and, where 5.15
+  allows it, off-fly.  Stops that disable on MAC4-INC/SSI (MRE, DEINIT,
+  watchdog, leaving a software limit, following error) open /EN only with
+  the mechanics at rest (|speed| <= 1 Inc per tick), within the distance that
+  the reaction delay (three ticks at speed), the <ed> ramp and the following
+  lag allow; stops that hold (limit switch, stop bits) stand in mode brake
+  within it; the drive fault, the emergency stop and the encoder error
+  disable (the mechanics coast: the distance is reported, not bounded); on
+  the STP (open loop) the steps ramp with <ed> to <ssf> and stop, and not one
+  step is lost (but by a motor that stalls).  Each run prints a `STOP` line;
+  its figures are the table "Stopping distances at speed" of
+  docs/hardening.md.
+* the runaway guards (INC, SSI): reversed motor wiring, a frozen encoder, a
+  motor that cannot follow <ed>: /EN opens at once with ferr_f; the trace
+  shows where the mechanics stop.
 * reads while an error waits, C right after an error, m_rdy, the LEDs, ROUT.
 """
 import csv
@@ -91,15 +95,79 @@ def m_search_coarse(card, v):
     return ["send 0 WCV %d" % v, "send 0 WCA %d" % acc, "send 0 WCD %d" % acc, "send 0 MC", "send 0 E"]
 
 
+def m_search_index(card, v):
+    # at <lv> in the direction of <cv> (5.8), no ramp (STP: <lv> at most <ssf>, below the motor's
+    # own start/stop frequency of 1000 Hz); the index far ahead as for search-coarse
+    ssf = ["send 0 WSSF %d" % v] if card == "stp" else []
+    return ssf + ["send 0 WCV 1", "send 0 WLV %d" % v, "send 0 MI", "send 0 E"]
+
+
+def speed(card, mode):
+    return 500 if card == "stp" and base(mode) == "search-index" else V[card]
+
+
+# MAC4-STP with an incremental encoder at P2 (BR open, <et> 1, 4.4.2.3), which home and the
+# searches need: 20:1 gear, 50 000 increments and 10 000 steps per output revolution (5 per
+# step), the index at the end of the revolution: not met during a run
+STP_INDEX = ["plant 0 gear 20", "plant 0 encoder lines 12500 index 49999", "br 0 encoder", "send 0 UWET 1",
+             "send 0 UWES 12500", "send 0 UWMS 10000"]
+
+
+def m_pos_track(card, v):
+    # 5.12: the host streams the targets, one WAT per SP (PosTrack.run); E with the first
+    return ["send 0 WAT 0", "send 0 PT", "send 0 E"]
+
+
+def off_fly(fn):
+    # off-fly (5.15): the axis' other commands wait for the end of the move, so a stop can come
+    # only from the card itself, a switch, a stop bit or the emergency stop
+    return lambda card, v: ["send 0 FLYOFF"] + fn(card, v)
+
+
+def base(mode):
+    """The mode itself, off-fly or on-fly."""
+    return mode[len("off-fly-"):] if mode.startswith("off-fly-") else mode
+
+
+class PosTrack:
+    """The host of position tracking: a WAT every SP, the target's step
+    growing in eight SPs to v per SP (STP: v Hz as steps per SP), so the
+    motor follows from stand-still; the steps continue through the stop."""
+
+    def __init__(self, card, v):
+        self.sp = SP_MS[card]
+        self.v = v * STP_STEPS_SP if card == "stp" else v
+        self.k, self.t, self.left = 0, 0.0, 0.0
+
+    def run(self, ms):
+        out = []
+        self.left += ms
+        while self.left >= self.sp:
+            self.k += 1
+            self.t += self.v * min(self.k, 8) / 8
+            out += ["send 0 WAT %d" % round(self.t), "run %g" % self.sp]
+            self.left -= self.sp
+        return out
+
+
 MODES = {
     "speed": (m_speed, ("inc", "ssi", "stp")),
     "positioning": (m_positioning, ("inc", "ssi", "stp")),
     "vel-track": (m_vtrack, ("inc", "ssi", "stp")),
     "find-edge": (m_find_edge, ("inc", "ssi", "stp")),
-    "home": (m_home, ("inc",)),                      # needs the index at P2 (<et> 1): INC, STP with encoder
-    "search-coarse": (m_search_coarse, ("inc",)),
+    # the index at P2 (<et> 1): INC, STP with an encoder (STP_INDEX); the SSI has no such modes
+    "home": (m_home, ("inc", "stp")),
+    "search-coarse": (m_search_coarse, ("inc", "stp")),
+    "search-index": (m_search_index, ("inc", "stp")),
+    "pos-track": (m_pos_track, ("inc", "ssi", "stp")),
 }
-JUSTIFY = ("find-edge", "home", "search-coarse")
+# 5.15: off-fly can be selected in these modes; all others, and these by default, run on-fly
+for _m in ("positioning", "find-edge", "home", "search-coarse", "search-index"):
+    MODES["off-fly-" + _m] = (off_fly(MODES[_m][0]), MODES[_m][1])
+JUSTIFY = ("find-edge", "home", "search-coarse", "search-index")
+# the causes that are commands: off-fly holds them until the move ends (5.15); the host that
+# streams position-tracking targets keeps the watchdog from expiring
+BY_COMMAND = ("mre", "deinit", "watchdog")
 
 # ---- the causes --------------------------------------------------------------------
 # kind: "rest" disables with the mechanics at rest (STP: ramp to <ssf>, off), "hold" stands in mode
@@ -107,11 +175,12 @@ JUSTIFY = ("find-edge", "home", "search-coarse")
 AHEAD = {"inc": 5000, "ssi": 5000, "stp": 2000}    # where a switch or limit lies ahead of the run-up
 # search index coarse: the index of the default encoder at increment 3999, so the run-up is short,
 # the switch or limit closer and the axis stands before the index
-RUNUP = {"search-coarse": 100}
+RUNUP = {"search-coarse": 100, "search-index": 100}
+SEARCH = ("search-coarse", "search-index")
 
 
 def ahead_of(card, mode):
-    return 2500 if mode == "search-coarse" else AHEAD[card]
+    return 2500 if base(mode) in SEARCH and card != "stp" else AHEAD[card]
 
 
 def stop_ramp(card, mode, cause):
@@ -119,15 +188,37 @@ def stop_ramp(card, mode, cause):
     if cause.name != "stop-bit":
         return ED_STP if card == "stp" else ED
     if card == "stp":
-        return 500 if mode in ("speed", "positioning", "find-edge") else 1000
-    return 20 if mode == "positioning" else 100
+        return 500 if base(mode) in ("speed", "positioning", "find-edge") else 1000
+    return 20 if base(mode) == "positioning" else 100
 
 
 class Cause:
-    def __init__(self, name, kind, report, setup=(), inject=(), modes=None, mode_after="disable", bits=()):
+    def __init__(self, name, kind, report, setup=(), inject=(), modes=None, mode_after="disable", bits=(),
+                 per_card=None):
         self.name, self.kind, self.report = name, kind, report
         self.setup, self.inject, self.modes = setup, inject, modes
         self.mode_after, self.bits = mode_after, bits
+        self.per_card = per_card or {}           # card -> (setup, inject) in place of the common ones
+
+    def setup_on(self, card):
+        return self.per_card[card][0] if card in self.per_card else self.setup
+
+    def inject_on(self, card):
+        return self.per_card[card][1] if card in self.per_card else self.inject
+
+
+# 6.3.8 at speed: INC and STP read an absolute encoder board over the VMEbus (<et> 4) that then
+# stops answering (a bus error on every read); the SSI encoder's data line sticks at 1, which in
+# Gray code decodes beyond <ec> = 2^23
+# 4.8.1 on the STP: the encoder on the motor (8 increments per step) shows the following error of a
+# motor whose torque is gone above 1500 Hz, at 2000 Hz
+STP_FERR = ["br 0 encoder", "send 0 UWET 1", "send 0 UWES 1000", "send 0 WMF 50"]
+VME_ENC = ["send 0 UWET 4", "send 0 UWEA 0x80C000", "send 0 UWEB 24"]
+ENCODER_LOSS = {
+    "inc": (["vme-encoder 0x80C000 0 bits 24 res 4000 turns 0"] + VME_ENC, ["vme-encoder 0x80C000 off"]),
+    "stp": (["vme-encoder 0x80C000 0 bits 24 res 500 turns 0 shaft motor"] + VME_ENC, ["vme-encoder 0x80C000 off"]),
+    "ssi": (["send 0 UWEC 8388608"], ["fault 0 encoder stuck1"]),
+}
 
 
 CAUSES = [
@@ -139,9 +230,12 @@ CAUSES = [
           bits=("hwl_p",)),
     Cause("swl", "rest", ("axis", 163, ub("swl_p", "logo_f")), setup=("send 0 UWLP AHEAD",), modes=JUSTIFY,
           bits=("swl_p",)),
-    Cause("ferr", "rest", ("axis", 163, ub("ferr_f")), inject=("plant 0 motor coulomb 100",), bits=("ferr_f",)),
+    Cause("ferr", "rest", ("axis", 163, ub("ferr_f")), inject=("plant 0 motor coulomb 100",), bits=("ferr_f",),
+          per_card={"stp": (STP_FERR, ["stepper 0 fmax 1500"])}),
     Cause("drive", "coast", ("axis", 163, ub("dr_f")), inject=("fault 0 drive on",), bits=("dr_f",)),
     Cause("estop", "coast", ("card", 165, 0), inject=("estop on",)),
+    Cause("encoder", "coast", ("axis", 163, ub("encoder_f", "logo_f")), per_card=ENCODER_LOSS,
+          modes=("speed", "positioning", "vel-track", "find-edge", "pos-track"), bits=("encoder_f",)),
 ]
 
 
@@ -161,29 +255,49 @@ def vel_of(row, card):
 def run_stop(tmp_path, card, mode, cause, v=None, extra=(), runup_ms=None):
     """One run: the trace rows from the event on, the responses after it,
     the RFE at speed and the plant at the end."""
-    v = V[card] if v is None else v
+    v = speed(card, mode) if v is None else v
     fn, _ = MODES[mode]
     path = str(tmp_path / ("%s-%s-%s.csv" % (card, mode, cause.name)))
     ahead = ahead_of(card, mode)
-    setup = [l.replace("AHEAD", str(ahead)) for l in cause.setup]
-    sys_setup = [l for l in setup if l.startswith(("send 0 UW", "switch"))]
+    setup = [l.replace("AHEAD", str(ahead)) for l in cause.setup_on(card)]
+    sys_setup = [l for l in setup if l.startswith(("send 0 UW", "switch", "vme-encoder", "plant", "br ", "stepper"))]
     mode_setup = [l for l in setup if l not in sys_setup]
-    lines = [BOOT.strip()] + [l for l in sys_setup if l.startswith("switch")] + pre(card) + list(extra)
-    if mode == "search-coarse":
+    lines = [BOOT.strip()] + [l for l in sys_setup if not l.startswith("send")] + pre(card) + list(extra)
+    if card == "stp" and base(mode) in ("home",) + SEARCH:
+        lines += STP_INDEX
+    elif base(mode) in SEARCH:
         lines.append("plant 0 encoder index 3999")
     lines += [l for l in sys_setup if l.startswith("send")]
     if card == "stp":
         lines.append("send 0 WAA %d" % ED_STP)             # a ramp step per tick the motor follows
     lines += ["send 0 INIT", "send 0 ME", "send 0 E", "run 20"] + mode_setup
     # the run-up: the move at speed well before the switch or limit ahead
-    run_up = runup_ms or RUNUP.get(mode, 300 if card != "stp" else 600)
-    lines += fn(card, v) + ["run %d" % run_up, "send 0 RFE", "run 1", "plant 0"]
-    lines += ["trace 0 %s tick" % path]
-    lines += list(cause.inject) + ["run 1500" if card == "stp" else "run 600", "trace off", "plant 0"]
+    # (STP_INDEX: the index far; search index at 500 Hz needs longer to reach the switch ahead)
+    run_up = runup_ms or ((3000 if base(mode) == "search-index" else 600) if card == "stp" else
+                          RUNUP.get(base(mode), 300))
+    host = PosTrack(card, v) if mode == "pos-track" else None
+
+    def run(ms):
+        return host.run(ms) if host else ["run %d" % ms]
+    lines += fn(card, v) + run(run_up) + ["send 0 RFE", "run 1", "plant 0"]
+    lines += ["trace 0 %s tick" % path, "echo @inject"]
+    lines += list(cause.inject_on(card)) + run(1500 if card == "stp" else 600) + ["trace off", "plant 0"]
     lines += ["send 0 RBS", "send 0 RAS", "send 0 ME", "send 0 RBS", "run 5"]
     r = sim("\n".join(lines) + "\n", card)
     assert r.rc == 0, r.stderr
     return trace_rows(path), r
+
+
+def errors_after_inject(r):
+    """(code, parameter) of the error answers 160-165 after the injection, in order."""
+    k = r.lines.index("@inject")
+    out = []
+    for l in r.lines[k:]:
+        if l.startswith("resp "):
+            _, _, c, p = l.split()
+            if 160 <= int(c) <= 165:
+                out.append((int(c), int(p, 16)))
+    return out
 
 
 def ferr_at_speed(r):
@@ -195,11 +309,13 @@ def ferr_at_speed(r):
 def cases():
     for cause in CAUSES:
         for mode, (_, cards) in MODES.items():
-            if cause.modes and mode not in cause.modes:
+            if cause.modes and base(mode) not in cause.modes:
+                continue
+            if cause.name in BY_COMMAND and (mode.startswith("off-fly") or mode == "pos-track"):
                 continue
             for card in cards:
-                if cause.name == "ferr" and card == "stp":
-                    continue                              # open loop: the fault matrix's stall rows
+                if cause.name == "ferr" and card == "stp" and base(mode) in ("home",) + SEARCH:
+                    continue                              # (STP_FERR's encoder is not STP_INDEX's)
                 yield pytest.param(card, mode, cause, id="%s-%s-%s" % (cause.name, mode, card))
 
 
@@ -217,7 +333,7 @@ def test_stop_sweep(tmp_path, card, mode, cause):
     t0 = rows[k0]
     p0 = pos_of(t0, card)
     v0 = float(r.grep(r"^plant 0 ")[0].split("vel=")[1].split()[0])     # just before the trace
-    assert v0 > 0.8 * V[card] * (1000 / SP_MS[card] if card != "stp" else 1), (mode, v0)   # at speed
+    assert v0 > 0.8 * speed(card, mode) * (1000 / SP_MS[card] if card != "stp" else 1), (mode, v0)   # at speed
     end = rows[-1]
     rest = pos_of(end, card)
     dist = rest - p0
@@ -225,7 +341,7 @@ def test_stop_sweep(tmp_path, card, mode, cause):
         assert abs(vel_of(end, card)) < 1 and abs(pos_of(rows[-20], card) - rest) < 1, "mechanics not at rest"
     enabled = [k for k, t in enumerate(rows) if t["en"] == 1]
     off_at = next((k for k in range(len(rows)) if rows[k]["en"] == 0), None)
-    vmax = V[card]
+    vmax = speed(card, mode)
     ramp = stop_ramp(card, mode, cause)
     if card == "stp":
         vel_sp = vmax * STP_STEPS_SP                       # steps per SP
@@ -246,19 +362,26 @@ def test_stop_sweep(tmp_path, card, mode, cause):
     assert st & 0xFF == MODE[cause.mode_after], (hex(st), cause.mode_after)
     for b in cause.bits:
         assert st & ub(b), (b, hex(st))
+    errs = errors_after_inject(r)
     if cause.report:
         where, ecode, bits = cause.report
-        assert me[1] == ecode and me[2] & bits == bits, me                # the report, once
+        # the report, once: the first other command after the event gets it (position tracking:
+        # a streamed WAT), every later one 163 until C (6.3.7)
+        assert errs and errs[0][0] == ecode and errs[0][1] & bits == bits, errs
+        assert all(c == 163 for c, _ in errs[1:]), errs
+        if mode != "pos-track":
+            assert len(errs) == 1 and me[1] == ecode, (errs, me)
         assert st & ub("ferr_f") == (ub("ferr_f") if "ferr_f" in cause.bits else 0), hex(st)
     else:
-        assert me[1] == code("ME"), me
+        assert errs == [] and me[1] == code("ME"), (errs, me)
         assert not st & (ub("ferr_f") | ub("logo_f")), hex(st)           # a clean stop
     if cause.name == "deinit":
         assert not st & ub("init")
     if card == "stp":
         # (coast: the power stage is off or /EN open, the field stops under the rotor)
         if cause.kind != "coast":
-            assert end["lost"] == 0, "%d steps lost" % end["lost"]
+            if cause.name != "ferr":                      # (the motor that stalls loses them)
+                assert end["lost"] == 0, "%d steps lost" % end["lost"]
             assert dist <= bound, (dist, bound)
     elif cause.kind == "rest":
         assert off_at is not None, "never disabled"
@@ -280,11 +403,13 @@ MF = 500
 STOP_GROW_TICKS, STOP_SETTLE_TICKS = 4, 40            # firmware/card.h
 
 
-def guard_run(tmp_path, name, before, inject, ms=4000):
+def guard_run(tmp_path, name, before, inject, ms=4000, card="inc"):
     path = str(tmp_path / (name + ".csv"))
-    lines = [BOOT.strip()] + before + ["trace 0 %s tick" % path] + inject + [
+    # (the SSI's absolute encoder away from its 0, which a reversed run would cross)
+    lines = [BOOT.strip()] + (["plant 0 pos 100000"] if card == "ssi" else []) + pre(card) + before + [
+        "trace 0 %s tick" % path] + inject + [
         "run %d" % ms, "trace off", "plant 0", "send 0 RBS", "send 0 ME", "run 5"]
-    r = sim("\n".join(lines) + "\n", "inc")
+    r = sim("\n".join(lines) + "\n", card)
     assert r.rc == 0, r.stderr
     rows = trace_rows(path)
     off = next(k for k, t in enumerate(rows) if t["en"] == 0)
@@ -299,37 +424,40 @@ def over_mf(rows):
     return next(k for k, t in enumerate(rows) if abs(t["dac"]) > K * MF)
 
 
-def test_runaway_guard_reversed_wiring(tmp_path):
+@pytest.mark.parametrize("card", ("inc", "ssi"))
+def test_runaway_guard_reversed_wiring(tmp_path, card):
     """The motor's leads swapped (USR missing): the loop drives away from the
     setpoint.  Following error, and the braking loop runs away too: /EN opens
     STOP_GROW_TICKS ticks after the stop began, not when the following error
     has grown by <mf>/2 more, nor after the time bound."""
     rows, off = guard_run(tmp_path, "reversed", ["plant 0 wiring reversed"] + P_ONLY + [
         "send 0 WMF %d" % MF, "send 0 INIT", "send 0 ME", "send 0 E", "run 20"],
-        ["send 0 WVT 100", "send 0 MS", "send 0 E"])
+        ["send 0 WVT 100", "send 0 MS", "send 0 E"], card=card)
     k = over_mf(rows)
     assert rows[k]["velocity"] < 0                    # the wrong way
     assert off - k <= 2 + STOP_GROW_TICKS, (k, off)   # the stop's first tick, then the guard
     assert abs(rows[-1]["velocity"]) < 1                # coasted to rest
-    print("GUARD reversed: /EN open %d ticks after RFE > <mf>, at %.0f Inc; mechanics at rest at %.0f Inc" % (
-        off - k, rows[off]["position"], rows[-1]["position"]))
+    print("GUARD %s reversed: /EN open %d ticks after RFE > <mf>, at %.0f Inc; mechanics at rest at %.0f Inc" % (
+        card, off - k, rows[off]["position"], rows[-1]["position"]))
 
 
-def test_runaway_guard_frozen_encoder(tmp_path):
+@pytest.mark.parametrize("card", ("inc", "ssi"))
+def test_runaway_guard_frozen_encoder(tmp_path, card):
     """The counter stops mid-move: the axis measures no motion with more
     than <mf> to go: /EN opens in the tick after the stop began."""
     rows, off = guard_run(tmp_path, "frozen", P_ONLY + [
         "send 0 WMF %d" % MF, "send 0 INIT", "send 0 ME", "send 0 E", "run 20", "send 0 WVT 40", "send 0 MS",
-        "send 0 E", "run 300"], ["fault 0 encoder frozen"])
+        "send 0 E", "run 300"], ["fault 0 encoder frozen"], card=card)
     assert rows[0]["en"] == 1 and rows[0]["velocity"] > 3500
     k = over_mf(rows)
     assert off - k <= 3, (k, off)
     assert abs(rows[-1]["velocity"]) < 1
-    print("GUARD frozen: /EN open %d ticks after RFE > <mf>, at %.0f Inc (frozen at %.0f); at rest at %.0f Inc" % (
-        off - k, rows[off]["position"], rows[0]["position"], rows[-1]["position"]))
+    print("GUARD %s frozen: /EN open %d ticks after RFE > <mf>, at %.0f Inc (frozen at %.0f); at rest at %.0f Inc" % (
+        card, off - k, rows[off]["position"], rows[0]["position"], rows[-1]["position"]))
 
 
-def test_runaway_guard_motor_cannot_follow_ed(tmp_path):
+@pytest.mark.parametrize("card", ("inc", "ssi"))
+def test_runaway_guard_motor_cannot_follow_ed(tmp_path, card):
     """A current-controlled drive whose current limit decelerates the load
     at 16 000 Inc/s^2, where <ed> asks for 5e7: the setpoint stands after a
     tick, the motor overshoots it; /EN opens once the following error has
@@ -338,14 +466,14 @@ def test_runaway_guard_motor_cannot_follow_ed(tmp_path):
     rows, off = guard_run(tmp_path, "slow", ["plant 0 motor mode current imax 2 inertia 5e-4",
                                              "send 0 WMF %d" % MF, "send 0 INIT", "send 0 ME", "send 0 E", "run 20",
                                              "send 0 WVT 40", "send 0 WPA 1", "send 0 MS", "send 0 E", "run 3000"],
-                          ["send 0 MRE", "send 0 E"], ms=8000)
+                          ["send 0 MRE", "send 0 E"], ms=8000, card=card)
     assert rows[0]["velocity"] > 3500 and rows[0]["en"] == 1
     ramp_ticks = 1                                    # 40 Inc/SP with <ed> 5000: one tick
     assert off <= 2 * ramp_ticks + STOP_SETTLE_TICKS + 3, off
     assert rows[off]["velocity"] > 1000                # it had not stopped: the guard, not the rest test
     # (after /EN the load coasts on its own friction: far, it has no brake)
-    print("GUARD slow motor: /EN open %d ticks after MRE at %.0f Inc/s, %.0f Inc after it; +%.0f Inc after 8 s" % (
-        off, rows[off]["velocity"], rows[off]["position"] - rows[0]["position"],
+    print("GUARD %s slow motor: /EN open %d ticks after MRE at %.0f Inc/s, %.0f Inc after it; +%.0f Inc after 8 s" % (
+        card, off, rows[off]["velocity"], rows[off]["position"] - rows[0]["position"],
         rows[-1]["position"] - rows[0]["position"]))
 
 
@@ -372,10 +500,11 @@ def test_reads_run_and_c_right_after_the_error_acknowledges_it(card, fault):
     the error code and, being C, acknowledges it: one C is enough, the next
     command runs."""
     lines, ecode, bits, cardwide = FAULTS[fault]
+    setup = []
     if card == "stp" and fault == "ferr":
-        lines = ["stepper 0 ssf 50", "run 10"]   # not used: the STP's stall is the fault matrix's
-        pytest.skip("STP: open loop, its following error rows are in the fault matrix")
-    r = cmds(pre(card) + ["send 0 INIT", "send 0 ME", "send 0 E", "run 20"] + m_speed(card, V[card] // 2) +
+        setup = STP_FERR                          # the encoder shows the stall (at 1000 Hz here)
+        lines = ["stepper 0 fmax 500", "run 800"]
+    r = cmds(pre(card) + setup + ["send 0 INIT", "send 0 ME", "send 0 E", "run 20"] + m_speed(card, V[card] // 2) +
              ["run 300"] + lines + (["estop off"] if fault == "estop" else []) +
              ["send 0 RBS", "send 0 RCP", "send 0 RAS", "send 1 RBS", "send 0 C", "send 0 RBS", "send 0 RAS",
               "send 0 ME", "run 5"], card)
@@ -436,13 +565,22 @@ def test_leds_by_name(card):
     r = cmds(["switch 0 lp 100", "switch 1 ln -100 high", "switch 2 ref -50 100", "switch 3 df high",
               "plant 0 pos 200", "send 0 UWPS 0", "run 20", "leds", "fault 0 drive on", "send 3 UWSO 2",
               "send 3 INIT", "run 40", "leds", "fault 3 drive on", "run 40", "leds"] + pre(card), card)
-    first, _, third = [leds_of(l) for l in r.grep(r"^leds ")]
+    lines = r.grep(r"^leds ")
+    first, second, third = [leds_of(l) for l in lines]
     assert first[0] == {"D", "LP"}                               # at 0 V, though configured off (UWPS 0)
     assert first[1] == {"D", "LN"}                               # high active, off: the line is at 0 V
-    assert first[2] == {"D", "REF"} and first[3] == {"D", "F"}   # df high active, no fault: 0 V, not "on"
+    # axis 3's amplifier signals a fault high: no fault puts 0 V on the line, which the card, still
+    # configured low active (<df> 1), recognises as a fault: F; configured high active (UWSO 2,
+    # INIT): off; the fault on, the line high: F again, whatever the level
+    assert first[2] == {"D", "REF"} and first[3] == {"D", "F"}
+    assert "F" not in second[3]
     assert "F" in third[0]                                       # low active (default): on at 0 V
-    assert "F" in third[3] and int(r.grep(r"^leds ")[2].split()[1], 16) & (0x4 << 12)
-    assert int(r.grep(r"^leds ")[0].split()[1], 16) == int(r.grep(r"^leds ")[0].split()[1], 16)
+    assert "F" in third[3]
+    for line, named in zip(lines, (first, second, third)):
+        word = int(line.split()[1], 16)                          # the register word agrees with the names
+        for a in range(4):
+            for bit, name in ((1, "D"), (2, "P"), (4, "F")):
+                assert bool(word >> (4 * a) & bit) == (name in named[a]), (line, a, name)
 
 
 def test_rout_and_rps_in_steps_per_sp_on_the_stp():
