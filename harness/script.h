@@ -22,6 +22,7 @@ int script_parse_ms(const char *t, cyc_t *out);       /* decimal ms 0..3600000; 
 int script_getline(script_t *sc, FILE *in, char *buf);  /* buf: SCRIPT_LINE_MAX + 2; 1, 0 end, -1 */
 int script_check_file(FILE *f);                       /* -1: a directory */
 extern int script_waits_timed_out;                     /* wait-display timeouts so far */
+extern int script_includes;                            /* files included so far (at most 1000) */
 int script_err(script_t *sc, const char *fmt, const char *arg);   /* returns -1 */
 
 /* Command families beside their models: return SCRIPT_NOT_MINE for a command

@@ -435,6 +435,11 @@ static int cmd_trace(script_t *sc, sim_t *s, char **tok, int nt)
  * scenarios, tests/scenarios/).  A relative FILE is looked for beside the
  * including script first, then in the current directory. */
 #define INCLUDE_DEPTH 8
+/* Files that include themselves more than once a file multiply at every
+ * level (10 lines of `include self` 8 deep would be 10^8 files): a run opens
+ * at most INCLUDE_FILES included files in all. */
+#define INCLUDE_FILES 1000
+int script_includes;
 
 static FILE *open_beside(const char *including, const char *file, char *used, size_t len)
 {
@@ -457,6 +462,8 @@ static int cmd_include(script_t *sc, sim_t *s, char **tok, int nt)
         return script_err(sc, "usage: %s", "include FILE");
     if (sc->depth >= INCLUDE_DEPTH)
         return script_err(sc, "include: nested deeper than 8 (a loop?) at '%s'", tok[1]);
+    if (script_includes >= INCLUDE_FILES)
+        return script_err(sc, "include: more than 1000 files included in all (a runaway?) at '%s'", tok[1]);
     char path[2048];
     FILE *f = open_beside(sc->name, tok[1], path, sizeof path);
     if (!f)
@@ -465,6 +472,7 @@ static int cmd_include(script_t *sc, sim_t *s, char **tok, int nt)
         fclose(f);
         return script_err(sc, "include: '%s' is a directory", tok[1]);
     }
+    script_includes++;
     script_t inner = {path, 0, 0, sc->depth + 1};
     char buf[SCRIPT_LINE_MAX + 2];
     int r = 0;

@@ -107,6 +107,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     sim_attach_cpu(&S, &null_cpu);
     slices = 0;
     script_waits_timed_out = 0;
+    script_includes = 0;
     FILE *in = fopen(DIR "/self.mac4", "rb");
     script_t sc = {DIR "/main.mac4", 0, 0, 0};
     if (!setjmp(budget_jb)) {

@@ -164,3 +164,11 @@ def test_exit_status_emulator_fault_before_stop(tmp_path):
     rc, out, err = mac4sim("--image", str(bad), "--allow-faults", "--script", "-",
                            script="wait-display 5 50\n")
     assert rc in (STOPPED, TIMEOUT), (rc, out, err)
+
+
+def test_includes_that_multiply_stop_at_1000_files(tmp_path):
+    # ten includes of itself a level, 8 deep: 10^8 files without the bound
+    many = tmp_path / "many.mac4"
+    many.write_text("include many.mac4\n" * 10)
+    rc, out, err = mac4sim("--script", "-", script="include %s\necho after\n" % many, timeout=60)
+    assert rc == ERROR and "more than 1000 files included in all" in err and "after" in out, err[-300:]
