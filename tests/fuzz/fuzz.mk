@@ -148,6 +148,7 @@ fuzz: fuzz-tools $(foreach t,$(FUZZ_TARGETS),$(foreach c,$(FUZZ_CARDS),$(B)/fuzz
 	@set -e; for t in $(FUZZ_HOST_TARGETS); do \
 		$(PYTHON) tests/fuzz/fuzz_host.py --target $$t --seconds $(FUZZ_SECONDS) | tee -a $(B)/fuzz/summary.txt; done
 	@echo "summary in $(B)/fuzz/summary.txt"
+	@! grep -E "crashes [1-9]" $(B)/fuzz/summary.txt || { echo "make fuzz: findings above (build/fuzz/crash-*)"; exit 1; }
 
 # Only inputs that reach new edges are kept (-use_counters=0: not new hit
 # counts), so the corpus in the repository stays small and its replay fast.
