@@ -15,14 +15,26 @@ static void display(unsigned v)
     hal_wr32(DPC_BOOT_STATE, v);
 }
 
-void fw_halt(unsigned digit, uint32_t code)
+static void show_error(unsigned digit, uint32_t code)
 {
     hal_irq_save();
     hal_wr32(DPC_BOOT_ERROR, code);
     display((digit & 0xFu) | SYS_DISPLAY_DP);
+}
+
+void fw_halt(unsigned digit, uint32_t code)
+{
+    show_error(digit, code);
     /* Stopped, but kept alive: the watchdog must not turn the error display
-     * into a reset loop, and the host can read the reason at $4004. */
+     * of a RAM or EPROM fault into a reset loop; the host reads the reason
+     * at $4004. */
     hal_stop();
+}
+
+void fw_halt_for_watchdog(unsigned digit, uint32_t code)
+{
+    show_error(digit, code);
+    hal_stop_no_kick();
 }
 
 /* Pattern for a RAM word: depends on every address line of the 32 KiB
@@ -62,9 +74,22 @@ int fw_boot_stage1(void)
     hal_wr16(WDG_KICK, 0);
     hal_copy_vectors();
     /* The card's part of the host area starts from zero: counters, status,
-     * interlock flags and stop bits (manual 3.1); the queues follow later. */
+     * interlock flags and stop bits (manual 3.1); the queues follow later.
+     * After a watchdog reset the fault record stays for the host to read. */
+    uint32_t rec[4], faults = 0;
+    int keep = (hal_rd16(SYS_STATUS) & SYS_ST_WDG_RESET) != 0;
+    if (keep) {
+        for (unsigned i = 0; i < 4; i++)
+            rec[i] = hal_rd32(DPC_FAULT_VECTOR + 4u * i);
+        faults = hal_rd32(DPC_FAULT_COUNT);
+    }
     for (uint32_t a = DP_HOST_AREA; a < DP_CMD_QUEUE; a += 4)
         hal_wr32(a, 0);
+    if (keep) {
+        for (unsigned i = 0; i < 4; i++)
+            hal_wr32(DPC_FAULT_VECTOR + 4u * i, rec[i]);
+        hal_wr32(DPC_FAULT_COUNT, faults);
+    }
     display(1);
     display(2);
     uint32_t bad = ram_test(SRAM_BASE, SRAM_SIZE);

@@ -16,6 +16,7 @@
 #include "measure.h"
 #include "serial.h"
 #include "motion.h"
+#include "ext.h"
 #if MAC4_CARD == MAC4_CARD_STP
 #include "stepper.h"
 #endif
@@ -44,6 +45,7 @@ static uint8_t virq_fifo[VIRQ_FIFO];
 static uint8_t virq_head;
 volatile uint8_t vme_irq_waiting;      /* virq_tail != virq_head: see vme_irq_service() */
 static uint8_t virq_tail;
+static uint32_t virq_lost;             /* DPC_VME_IRQ_LOST, kept in RAM (published every tick) */
 
 void vme_irq(uint8_t vector)
 {
@@ -52,7 +54,7 @@ void vme_irq(uint8_t vector)
     unsigned prev = hal_irq_save();
     uint8_t next = (uint8_t)((virq_head + 1u) % VIRQ_FIFO);
     if (next == virq_tail) {
-        hal_wr32(DPC_VME_IRQ_LOST, hal_rd32(DPC_VME_IRQ_LOST) + 1);
+        hal_wr32(DPC_VME_IRQ_LOST, ++virq_lost);
     } else {
         virq_fifo[virq_head] = vector;
         virq_head = next;
@@ -134,6 +136,7 @@ void axis_init_measurement(unsigned n)
 {
     measure_init(n);
     axes[n].meas_sup = axes[n].meas;
+    ext_axis_init(n);                            /* the extensions follow the new measurement */
 }
 
 /* The part of axis_prepare that follows mode parameters (<mf>): all that
@@ -233,9 +236,11 @@ void card_reset(void)
     card_supervised = 0;
     estop_seen = 0;
     virq_head = virq_tail = 0;
+    virq_lost = 0;
     vme_irq_waiting = 0;
     cmd_reset();
     serial_reset();
+    ext_reset();                                  /* the extensions off (docs/extensions.md) */
 }
 
 void card_start(void)
@@ -715,6 +720,7 @@ void card_supervise_tick(void)
     supervise_axis(2, phase);
     supervise_axis(3, phase);
     stop_bits();             /* after the reactions: a stop they began keeps its <ed> */
+    ext_supervise();         /* the extensions' slices due (ext.h): one test while all are off */
     /* One axis' DPRAM data per tick: each is fresh every profile period
      * (10 ms / 32 ms), at a quarter of the cost. */
     unsigned prev = hal_irq_save();
@@ -726,6 +732,10 @@ void card_supervise_tick(void)
     hal_wr32(DPC_OSTAT, card_ostat);
     hal_wr32(DPC_PROFILE_LATE, card_profile_late);
     hal_wr32(DPC_SUPERVISE_LATE, card_supervise_late);
+    /* the counters live in RAM: a host write to them lasts a tick at most */
+    hal_wr32(DPC_VME_IRQ_LOST, virq_lost);
+    cmd_publish();
+    serial_publish(phase);
     vme_irq_service();
 }
 
@@ -803,6 +813,7 @@ void fw_main_step(void)
         card_supervise();   /* the SP boundary's tick first, wherever the tick hit the pass */
         card_profile_tick();
     }
+    ext_work();              /* one slice of the extensions' work, if due (ext.h) */
     cmd_poll();
     vme_irq_service();
     display_update();
@@ -814,7 +825,8 @@ void fw_fault(uint16_t vector, uint32_t pc, uint16_t sr, uint32_t addr)
     hal_wr32(DPC_FAULT_PC, pc);
     hal_wr32(DPC_FAULT_SR, sr);
     hal_wr32(DPC_FAULT_ADDR, addr);
+    hal_wr32(DPC_FAULT_COUNT, hal_rd32(DPC_FAULT_COUNT) + 1);   /* in the DPRAM: the reset tests the RAM */
     for (unsigned n = 0; n < MAC4_NAXES; n++)
         hal_wr16(AX_REG(n, AX_CTRL), 0);   /* a crashed card drives nothing */
-    fw_halt(0xF, DPC_ERR_EXCEPTION);
+    fw_halt_for_watchdog(0xF, DPC_ERR_EXCEPTION);   /* J11 in: restart (2.1.3) */
 }

@@ -22,6 +22,7 @@
 #include "serial.h"
 #include "motion.h"
 #include "measure.h"
+#include "ext.h"
 #if MAC4_CARD == MAC4_CARD_STP
 #include "stepper.h"
 #endif
@@ -32,14 +33,7 @@ enum { CK_NONE, CK_GEN_, CK_MODE, CK_WPAR, CK_READ_, CK_RPAR, CK_DIAG, CK_FIELD 
 #define CK_GEN CK_GEN_
 #define CK_READ CK_READ_
 
-enum {
-#define GEN(mn, code, cards, kind, desc) CI_##mn,
-#define MODESEL(mn, code, cards, mode, desc) CI_##mn,
-#define DIAG(mn, code, cards, units, desc) CI_##mn,
-#define PARAM(id, mn, kind, wcode, cards, flags, min, max, def, units, desc) CI_W_##id, CI_R_##id,
-#include "commands.def"
-    NCMDS
-};
+/* the command indices CI_*: cmd.h */
 _Static_assert(NCMDS <= 256 && NPARAMS <= 256, "cmd_t.arg is a byte");
 
 /* Code -> what it is, in one look-up indexed by the code: the kind
@@ -107,6 +101,17 @@ static uint8_t turn;            /* which interface is asked first this pass */
 /* Bit 0: some axis has an interrupt-1 vector, bit 1: an interrupt-2 vector
  * (4.6; both 0 by default): the command path looks a vector up only then. */
 static uint8_t irq12;
+/* Diagnostic counts, kept here and published to the card data block at
+ * every change and every tick (cmd_publish): a host write to the DPRAM
+ * cannot corrupt them. */
+static uint32_t n_commands, n_rsp_lost, n_queue_errors;
+
+void cmd_publish(void)
+{
+    hal_wr32(DPC_COMMANDS, n_commands);
+    hal_wr32(DPC_RSP_LOST, n_rsp_lost);
+    hal_wr32(DPC_QUEUE_ERRORS, n_queue_errors);
+}
 
 static void irq12_update(void)
 {
@@ -135,6 +140,7 @@ void cmd_reset(void)
     cmd_mr = 0;
     wd_fired = 0;
     wd_last_us = 0;
+    n_commands = n_rsp_lost = n_queue_errors = 0;
     n_held = 0;
     held_axes = 0;
     irq12_update();
@@ -479,7 +485,7 @@ static int do_general(int ci, unsigned a, uint32_t p)
         return write_param(a, P_AP, (int32_t)t);
     }
     default:
-        return ERR_SYNTAX;
+        return ext_general(ci, a, p);             /* the extensions (ext.h), else 161 */
     }
 }
 
@@ -503,7 +509,7 @@ static uint32_t read_value(cmd_t c, unsigned a)
 #endif
     case CI_RPS: return (uint32_t)(int32_t)(x->prof.vel >> 16);
     case CI_RAS: return card_ostat;
-    default: return 0;
+    default: return ext_read(c.arg, a);
     }
 }
 
@@ -629,7 +635,7 @@ static inline __attribute__((always_inline)) void respond(const mac4_msg_t *out)
     /* the VME response queue: source 0 (only the serial driver marks source 1) */
     if (q_put_at(DP_RSP_QUEUE, out->axis, out->code, out->param, MSG_SRC_VME) != Q_OK) {
         /* 4.6: a full output queue loses the response, no interrupt 2 */
-        hal_wr32(DPC_RSP_LOST, hal_rd32(DPC_RSP_LOST) + 1);
+        hal_wr32(DPC_RSP_LOST, ++n_rsp_lost);
         return;
     }
     if (irq12 & 2u) {
@@ -655,7 +661,7 @@ static inline __attribute__((always_inline)) void execute_and_respond(const mac4
     }
     cmd_execute(in, &out);   /* (perf track counts a pass with a cmd_execute as a command pass) */
     hal_irq_restore(prev);
-    hal_wr32(DPC_COMMANDS, hal_rd32(DPC_COMMANDS) + 1);   /* (a diagnostic count: after the mask) */
+    hal_wr32(DPC_COMMANDS, ++n_commands);   /* (a diagnostic count: after the mask) */
     /* what only the main loop reads, after the mask: the profile
      * generator's velocities of a move the command started (motion.c) */
     motion_after_command();
@@ -764,7 +770,7 @@ void cmd_poll(void)
         int r = q_get_at(DP_CMD_QUEUE, &in, 0);
         if (r == Q_CORRUPT) {
             if (!queue_bad)
-                hal_wr32(DPC_QUEUE_ERRORS, hal_rd32(DPC_QUEUE_ERRORS) + 1);
+                hal_wr32(DPC_QUEUE_ERRORS, ++n_queue_errors);
             queue_bad = 1;
         } else {
             queue_bad = 0;

@@ -2,10 +2,23 @@
 #ifndef CMD_H
 #define CMD_H
 #include "queue.h"
+#include "status.h"
+
+/* The index of every command of commands.def (cmd.c's table, the
+ * extensions' dispatch in ext.c). */
+enum {
+#define GEN(mn, code, cards, kind, desc) CI_##mn,
+#define MODESEL(mn, code, cards, mode, desc) CI_##mn,
+#define DIAG(mn, code, cards, units, desc) CI_##mn,
+#define PARAM(id, mn, kind, wcode, cards, flags, min, max, def, units, desc) CI_W_##id, CI_R_##id,
+#include "commands.def"
+    NCMDS
+};
 
 void cmd_reset(void);
 void cmd_poll(void);                    /* main loop: handle at most one command */
 void cmd_execute(const mac4_msg_t *in, mac4_msg_t *out);
+void cmd_publish(void);                 /* the command counters to the card data block */
 extern uint8_t cmd_mr;                 /* MR accepted: let the watchdog reset the card */
 static inline int cmd_mr_pending(void) { return cmd_mr; }
 /* Off-fly (5.15): commands waiting for their axis' move, oldest first

@@ -25,10 +25,14 @@ void fw_isr_tick(void);     /* periodic timer, level 6 */
 void fw_isr_axis(void);     /* axis board (index, step pulses), level 5 */
 void fw_isr_uart(void);     /* serial line, level 4 */
 void fw_isr_estop(void);    /* /STOP, level 7 */
-/* An unexpected exception: record it in the DPRAM, show "F." and stop. */
+/* An unexpected exception: record it in the DPRAM (kept across the
+ * watchdog's reset), show "F." and stop retriggering the watchdog: with J11
+ * in it restarts the card, with J11 out "F." stays. */
 void fw_fault(uint16_t vector, uint32_t pc, uint16_t sr, uint32_t addr) __attribute__((noreturn));
 /* Stop the card showing digit d with the decimal point (error at step d). */
 void fw_halt(unsigned digit, uint32_t code) __attribute__((noreturn));
+/* The same, but leave the card to the hardware watchdog (2.1.3). */
+void fw_halt_for_watchdog(unsigned digit, uint32_t code) __attribute__((noreturn));
 
 /* Firmware version (VER, manual table 6.1): the manual's releases. */
 #if MAC4_CARD == 2

@@ -217,6 +217,14 @@ static void stat_set(unsigned i, uint32_t v)
 
 static void stat_add(unsigned i, uint32_t n) { stat_set(i, stats[i] + n); }
 
+/* Two of the eight per tick, all of them every profile period. */
+void serial_publish(unsigned phase)
+{
+    unsigned i = 2u * (phase & 3u);
+    hal_wr32(DPC_SERIAL_RX_OK + 4u * i, stats[i]);
+    hal_wr32(DPC_SERIAL_RX_OK + 4u * (i + 1u), stats[i + 1u]);
+}
+
 void serial_reset(void)
 {
     unsigned sr = hal_irq_save();

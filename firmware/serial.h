@@ -32,6 +32,7 @@ int serial_get(mac4_msg_t *m);          /* next decoded command (source 1): 1, o
 extern uint8_t serial_fifo_count;
 static inline int serial_pending(void) { return serial_fifo_count != 0; }   /* serial_get would give one */
 void serial_send(const mac4_msg_t *m);  /* a response as a telegram */
+void serial_publish(unsigned phase);    /* statistics to the card data block, a quarter per phase */
 /* fw_isr_uart() (fw.h) is the level 4 interrupt: RX into the ring, TX out of it. */
 
 /* ---- protocol constants ------------------------------------------------- */

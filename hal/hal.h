@@ -38,5 +38,8 @@ int hal_copy_vectors(void);
  * spins retriggering the watchdog so the error display stays; the native
  * build returns control to the emulator. */
 void hal_stop(void) __attribute__((noreturn));
+/* The same without retriggering the watchdog: it resets the card when
+ * jumper J11 is in (2.1.3); with J11 out the card stays stopped. */
+void hal_stop_no_kick(void) __attribute__((noreturn));
 
 #endif

@@ -91,6 +91,11 @@
 #define DPC_SERIAL_TX_LOST             (DP_CARD_DATA + 0x5C) /* responses or NAKs dropped: TX buffer full */
 #define DPC_PROFILE_LATE               (DP_CARD_DATA + 0x60) /* SP boundaries the profile generator missed */
 #define DPC_SUPERVISE_LATE             (DP_CARD_DATA + 0x64) /* ticks the main loop supervised late */
+/* The fault record (vector, PC, SR, access address at $4010-$401C) and its
+ * count survive a watchdog reset (SYS_ST_WDG_RESET): after a fault the card
+ * restarts when J11 is in, and the host reads why (docs/interpretations.md).
+ */
+#define DPC_FAULT_COUNT                (DP_CARD_DATA + 0x68) /* unexpected exceptions since power-on */
 #define DPC_OSTAT                      (DP_CARD_DATA + 0x34) /* overall status (RAS) */
 #define DPC_VME_IRQ_LOST               (DP_CARD_DATA + 0x38) /* VMEbus interrupts dropped (FIFO full) */
 #define DPC_COMMANDS                   (DP_CARD_DATA + 0x3C) /* commands executed since reset */

@@ -307,6 +307,39 @@ double plant_units(sim_t *s, int n, cyc_t t)
     return out_rev(s, n, t) * plant_units_per_rev(s, n);
 }
 
+/* sin(x) without libm (the fuzz targets link the plant without it): x
+ * reduced to [-pi/2, pi/2], then Taylor to x^13 (error below 1e-9 there). */
+static double lead_sin(double x)
+{
+    double turns = x / TWO_PI;
+    x -= TWO_PI * (double)ifloor(turns + 0.5);       /* [-pi, pi] */
+    if (x > TWO_PI / 4)
+        x = TWO_PI / 2 - x;
+    else if (x < -TWO_PI / 4)
+        x = -TWO_PI / 2 - x;
+    double x2 = x * x, term = x, sum = x;
+    for (int k = 1; k <= 6; k++) {
+        term *= -x2 / (double)((2 * k) * (2 * k + 1));
+        sum += term;
+    }
+    return sum;
+}
+
+/* The leadscrew's error: where the load is for the output shaft at u. */
+double plant_lead_error(const plant_axis_t *p, double u)
+{
+    double e = p->lead_ppm * 1e-6 * u;
+    if (p->lead_amp != 0.0 && p->lead_pitch > 0.0)
+        e += p->lead_amp * lead_sin(TWO_PI * u / p->lead_pitch);
+    return e;
+}
+
+double plant_load_units(sim_t *s, int n, cyc_t t)
+{
+    double u = plant_units(s, n, t);
+    return u + plant_lead_error(&s->plant.ax[n], u);
+}
+
 double plant_units_per_s(sim_t *s, int n, cyc_t t)
 {
     plant_axis_t *p = &s->plant.ax[n];
@@ -1167,5 +1200,10 @@ void plant_format(sim_t *s, int n, char *buf, size_t len)
                 is_ssi(s) ? "ssi" : "counter",
                 is_ssi(s) ? plant_ssi_value(s, n, now) : counter_at(s, n, now), sw[0], sw[1], sw[2],
                 p->drive_fault, in);
+    }
+    if (p->lead_amp != 0.0 || p->lead_ppm != 0.0) {   /* a leadscrew with an error: where the load is */
+        size_t used = strlen(buf);
+        if (used < len)
+            snprintf(buf + used, len - used, " load=%.3f", u + plant_lead_error(p, u));
     }
 }

@@ -69,6 +69,12 @@ typedef struct {
     int df_high;               /* drive-fault line is high active */
     int drive_fault;           /* injected: DF active and the power stage off */
     int enc_fault;             /* PLANT_ENC_* */
+    /* ---- the machine behind the output shaft: a leadscrew with a known
+     * error, the load at L = u + amp sin(2 pi u / pitch) + ppm 1e-6 u for
+     * the output shaft at u units (docs/plant.md, "Leadscrew") ---- */
+    double lead_amp;           /* units; 0: no error */
+    double lead_pitch;         /* units per period of the periodic error */
+    double lead_ppm;           /* cumulative pitch error, parts per million */
 
     /* ---- state: mechanics, piecewise linear between t0 and t1 ---- */
     uint64_t t0, t1;           /* t1 = CYC_NEVER: at rest, nothing changes */
@@ -111,11 +117,13 @@ typedef struct {
 } plant_axis_t;
 
 #define PLANT_NVME 8
+#define PLANT_VME_LOAD 2
 typedef struct {
     int used;
     uint32_t base;             /* A24 address */
     int axis;                  /* the axis whose shaft turns it */
-    int motor_shaft;           /* on the motor shaft instead of the output shaft */
+    int motor_shaft;           /* on the motor shaft instead of the output shaft; PLANT_VME_LOAD:
+                                * a scale on the load behind the leadscrew (plant_load_units) */
     int bits;                  /* 1..32: one word up to 16 bits, two words above */
     double res;                /* counts per revolution */
     uint64_t turns;            /* revolutions before the value wraps (0: 2^bits wraps) */
@@ -157,6 +165,8 @@ void plant_enc_jump(struct sim *s, int n, int64_t by);
 void plant_step_counts(struct sim *s, int n, int64_t *generated, int64_t *lost);   /* STP */
 double plant_units(struct sim *s, int n, uint64_t t);        /* increments, SSI counts or steps */
 double plant_units_per_s(struct sim *s, int n, uint64_t t);
+double plant_load_units(struct sim *s, int n, uint64_t t);   /* the load behind the leadscrew, units */
+double plant_lead_error(const plant_axis_t *p, double u);     /* L - u at the output shaft at u */
 double plant_units_per_rev(struct sim *s, int n);            /* per output revolution */
 double plant_motor_rpm(struct sim *s, int n, uint64_t t);
 int plant_switch_active(struct sim *s, int n, int which, uint64_t t);

@@ -33,8 +33,9 @@ static plant_vme_t *find_board(sim_t *s, uint32_t addr)
 uint32_t plant_vme_value(sim_t *s, const plant_vme_t *b, cyc_t t)
 {
     plant_sync(s, b->axis, t);
-    double u = plant_units(s, b->axis, t) / plant_units_per_rev(s, b->axis);   /* output revs */
-    if (b->motor_shaft)
+    double u = (b->motor_shaft == PLANT_VME_LOAD ? plant_load_units(s, b->axis, t) : plant_units(s, b->axis, t)) /
+               plant_units_per_rev(s, b->axis);   /* output revs (or the load's, in the same units) */
+    if (b->motor_shaft == 1)
         u *= s->plant.ax[b->axis].gear;
     double c = u * b->res + 0.5;
     int64_t v = (int64_t)c;

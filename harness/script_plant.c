@@ -201,6 +201,24 @@ static int cmd_plant(script_t *sc, sim_t *s, char **tok, int nt)
         plant_set_position(s, n, u);
         return 0;
     }
+    if (!strcmp(what, "leadscrew")) {
+        /* the load behind a leadscrew with a known error (docs/plant.md) */
+        const char *usage = "plant AXIS leadscrew AMP PITCH [PPM] | plant AXIS leadscrew off";
+        if (nt == 4 && !strcmp(tok[3], "off")) {
+            p->lead_amp = p->lead_pitch = p->lead_ppm = 0.0;
+            return 0;
+        }
+        double amp = 0, pitch = 0, ppm = 0;
+        if (nt < 5 || nt > 6)
+            return script_err(sc, "usage: %s", usage);
+        if (parse_double(sc, tok[3], &amp, -1e9, 1e9) || parse_double(sc, tok[4], &pitch, 1e-3, 1e15) ||
+            (nt == 6 && parse_double(sc, tok[5], &ppm, -1e5, 1e5)))
+            return -1;
+        p->lead_amp = amp;
+        p->lead_pitch = pitch;
+        p->lead_ppm = ppm;
+        return 0;
+    }
     if (!strcmp(what, "defaults")) {
         edit_t e = edit_begin(s, n);
         double x = plant_units(s, n, sim_now(s));
@@ -211,7 +229,7 @@ static int cmd_plant(script_t *sc, sim_t *s, char **tok, int nt)
         edit_end(s, n, e);
         return 0;
     }
-    return script_err(sc, "unknown plant command '%s' (motor gear encoder ssi wiring pos defaults)", what);
+    return script_err(sc, "unknown plant command '%s' (motor gear encoder ssi wiring pos leadscrew defaults)", what);
 }
 
 static int cmd_stepper(script_t *sc, sim_t *s, char **tok, int nt)
@@ -337,7 +355,7 @@ static int cmd_vme_encoder(script_t *sc, sim_t *s, char **tok, int nt)
     double res = -1;
     int motor = 0;
     static const char *const usage =
-        "vme-encoder ADDR AXIS [bits N] [res COUNTS] [turns T] [offset V] [shaft motor|output], "
+        "vme-encoder ADDR AXIS [bits N] [res COUNTS] [turns T] [offset V] [shaft motor|output|load], "
         "vme-encoder ADDR off";
     if (nt < 3 || parse_int(sc, tok[1], &base, 0, 0xFFFFFE))
         return nt < 3 ? script_err(sc, "usage: %s", usage) : -1;
@@ -365,9 +383,9 @@ static int cmd_vme_encoder(script_t *sc, sim_t *s, char **tok, int nt)
             if (parse_int(sc, v, &offset, -(1LL << 40), 1LL << 40))
                 return -1;
         } else if (!strcmp(k, "shaft")) {
-            if (strcmp(v, "motor") && strcmp(v, "output"))
+            if (strcmp(v, "motor") && strcmp(v, "output") && strcmp(v, "load"))
                 return script_err(sc, "usage: %s", usage);
-            motor = !strcmp(v, "motor");
+            motor = !strcmp(v, "motor") ? 1 : !strcmp(v, "load") ? PLANT_VME_LOAD : 0;
         } else {
             return script_err(sc, "usage: %s", usage);
         }
@@ -390,7 +408,7 @@ static void cmd_vme_boards(sim_t *s)
             continue;
         sim_printf(s, "vme-encoder $%06X axis=%d bits=%d res=%.0f turns=%llu offset=%lld shaft=%s value=%u\n",
                    (unsigned)b->base, b->axis, b->bits, b->res, (unsigned long long)b->turns,
-                   (long long)b->offset, b->motor_shaft ? "motor" : "output",
+                   (long long)b->offset, b->motor_shaft == PLANT_VME_LOAD ? "load" : b->motor_shaft ? "motor" : "output",
                    plant_vme_value(s, b, sim_now(s)));
     }
 }

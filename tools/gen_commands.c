@@ -39,9 +39,38 @@ static void cards_list(unsigned mask)
     printf("]");
 }
 
+/* Every mnemonic names one command: a second use of one (a parameter's
+ * W../R.. name, a mode, an alias) is an error of commands.def, found here
+ * rather than by a host that looks the wrong command up. */
+#define MAX_MNEMONICS 512
+static char seen[MAX_MNEMONICS][24];
+static int nseen, dup_errors;
+static void unique(const char *mn)
+{
+    for (int i = 0; i < nseen; i++)
+        if (!strcmp(seen[i], mn)) {
+            fprintf(stderr, "gen_commands: mnemonic %s defined twice in commands.def\n", mn);
+            dup_errors++;
+            return;
+        }
+    if (nseen < MAX_MNEMONICS)
+        snprintf(seen[nseen++], sizeof seen[0], "%s", mn);
+}
+
+/* General instructions that take a parameter (the others ignore it). */
+static int takes_parameter(const char *mn)
+{
+    static const char *const with[] = {"TURBO", "WAP_R", "CENT", "CPTR", "CON", "PCON", "FBX", "FBS", "FBW1", "FBW2"};
+    for (unsigned i = 0; i < sizeof with / sizeof with[0]; i++)
+        if (!strcmp(with[i], mn))
+            return 1;
+    return 0;
+}
+
 static int nout;
 static void begin(const char *mn, long code, const char *kind, unsigned cards, const char *desc)
 {
+    unique(mn);
     printf("%s\n    {\"mnemonic\": ", nout++ ? "," : "");
     jstr(mn);
     printf(", \"code\": %ld, \"kind\": \"%s\", ", code, kind);
@@ -84,7 +113,7 @@ int main(void)
 
 #define GEN(mn, code, cards, kind, desc)                                        \
     begin(#mn, code, (kind) == CK_READ ? "read" : "general", cards, desc);       \
-    if (!strcmp(#mn, "TURBO") || !strcmp(#mn, "WAP_R"))                          \
+    if (takes_parameter(#mn))                                                    \
         printf(", \"takes_parameter\": true");                                   \
     printf("}");
 #define CK_GEN 0
@@ -113,7 +142,7 @@ int main(void)
 #include "commands.def"
     printf("\n  ],\n  \"aliases\": {");
     nout = 0;
-#define ALIAS(mn, of) printf("%s\"%s\": \"%s\"", nout++ ? ", " : "", #mn, #of);
+#define ALIAS(mn, of) unique(#mn); printf("%s\"%s\": \"%s\"", nout++ ? ", " : "", #mn, #of);
 #include "commands.def"
     printf("},\n  \"errors\": [");
     nout = 0;
@@ -149,5 +178,5 @@ int main(void)
 #define MODE(id, code, name) printf("%s{\"code\": %d, \"name\": \"%s\"}", sep, code, name); sep = ", ";
 #include "status.def"
     printf("]\n  }\n}\n");
-    return 0;
+    return dup_errors ? 1 : 0;
 }

@@ -382,6 +382,62 @@ def boot_ms(card, wait_states=None):
     return None
 
 
+# ---- the extensions (docs/extensions.md) switched on for all four axes -----
+EXT_PROBE = "ext_slice"
+EXT_TABLE = (4, 4)            # rows, columns of each axis' 2-D table (the cost does not depend on the size)
+
+
+def ext_lines(card, table=True, compare=True, feedback=True):
+    """Every extension on, on every axis, in its longest path: a 2-D table
+    per axis (row source the axis' actual position, column source the next
+    axis' desired position, wrap: always inside a cell), the compare armed
+    every 10 counts over the whole travel (two or three points per tick at
+    the scenario's speed: an interrupt per axis per tick, own vectors), and
+    the conversion table's eight entries on - per axis a tracking filter of
+    its measurement and a difference of it with itself, which <fbe> adds
+    (0: the full cost, the motion unchanged)."""
+    rows, cols = EXT_TABLE
+    out = []
+    span = 160000
+    for a in AXES:
+        if table:
+            out += ["send %d WCRA %d" % (a, a), "send %d WCCA %d" % (a, (a + 1) % 4), "send %d WCSD 2" % a,
+                    "send %d WCRW %d" % (a, rows), "send %d WCCL %d" % (a, cols), "send %d WCRS %d" % (a, span),
+                    "send %d WCCS %d" % (a, span), "send %d WCWR 1" % a, "send %d CDEF" % a]
+            n = (rows + 1) * (cols + 1) - 1
+            out += ["send %d CENT %d" % (a, (7 * k) % 17 - 8) for k in range(1, n + 1)]
+            out += ["send %d CON 1" % a]
+        if compare:
+            lo = -10000000 if card != "ssi" else 0
+            out += ["send %d WIRQ7 %d" % (a, 0x70 + a), "send %d WPCP %d" % (a, lo), "send %d WPCN 10" % a,
+                    "send %d WPCE 10000000" % a, "send %d PCON 1" % a]
+    if feedback:
+        for a in AXES:
+            out += ["send 0 FBX %d" % (2 * a), "send 0 FBW1 %d" % (1 << 21), "send 0 FBW2 %d" % (1 << 17),
+                    "send 0 FBS %d" % (0xB00000 | (0x10 + a)),
+                    "send 0 FBX %d" % (2 * a + 1), "send 0 FBS %d" % (0xE20000 | (2 * a) << 8 | (2 * a)),
+                    "send %d WFBE %d" % (a, 2 * a + 2)]
+    return out
+
+
+def extensions(card, ms=1000, host_load=True, **which):
+    """moving() with the extensions on (ext_lines), the supervision's part
+    of them probed."""
+    lines = setup_lines(card) + enable_lines(card) + ext_lines(card, **which) + move_lines(card, targets(card))
+    lines += window_lines(ms, host_load, probes=(PROFILE_PROBE, EXT_PROBE), lead_ms=MOVING_LEAD_MS[card])
+    return "\n".join(lines) + "\n"
+
+
+def ext_cost(r):
+    """The extensions' work after each tick (ext_slice, six slices per
+    tick): the longest slice, and the cycles per tick of all of them."""
+    p = r["probe"].get(EXT_PROBE, {})
+    ticks = r["net"].get("timer", {}).get("count")
+    if not p.get("count") or not ticks:
+        return (None, None)
+    return (p.get("max"), round(p["mean"] * p["count"] / ticks))
+
+
 # Every scenario's script by name, one source for the budget tests and the bench.
 SCRIPTS = {
     "moving": moving, "idle": idle, "commands": commands, "whole": whole_moves, "fly": on_the_fly,
@@ -389,6 +445,9 @@ SCRIPTS = {
     "external_full": lambda card: external(card, mode=FULL_FILTER), "braking": braking,
     "encoder_loss": encoder_loss, "serial": serial,
     "creep": lambda card: creep(), "creep_starts": lambda card: creep_starts(), "encoder": lambda card: stp_encoder(),
+    "ext": extensions, "ext_table": lambda card: extensions(card, compare=False, feedback=False),
+    "ext_compare": lambda card: extensions(card, table=False, feedback=False),
+    "ext_feedback": lambda card: extensions(card, table=False, compare=False),
 }
 # The scenarios whose worst tick is the card's worst tick, and those with the
 # longest main-loop masked sections (the commands; the profile generator's
@@ -398,6 +457,15 @@ TICK_SCENARIOS = {
     "stp": ("moving", "creep", "creep_starts", "braking", "external", "encoder_loss", "encoder"),
 }
 TICK_SCENARIOS["ssi"] = TICK_SCENARIOS["inc"]
+# The extensions on four axes (docs/extensions.md): each alone on every card,
+# all at once where the budget (firmware/ext.h) admits them (the STP); on
+# INC/SSI the firmware refuses what would exceed it.  They count as tick
+# scenarios and their command latency is a deadline too.
+EXT_SCENARIOS = {"inc": ("ext_table", "ext_compare", "ext_feedback"),
+                 "ssi": ("ext_table", "ext_compare", "ext_feedback"),
+                 "stp": ("ext_table", "ext_compare", "ext_feedback", "ext")}
+for _c in TICK_SCENARIOS:
+    TICK_SCENARIOS[_c] = TICK_SCENARIOS[_c] + EXT_SCENARIOS[_c]
 MASKED_SCENARIOS = {"inc": ("commands", "whole", "fly"), "ssi": ("commands", "whole", "fly"),
                     "stp": ("commands", "moving", "creep_starts")}
 
@@ -476,6 +544,9 @@ def deadlines(runs):
         add("uart", card, runs.uart_need(card), CHAR_CYCLES, "cycles")
         add("latency", card, latency_ms(runs.get("moving", card)), BUDGET_LATENCY_MS, "ms")
     add("latency_idle", "inc", latency_ms(runs.get("idle", "inc")), BUDGET_LATENCY_MS, "ms")
+    for card in ("inc", "ssi", "stp"):
+        for n in EXT_SCENARIOS[card]:
+            add("latency_" + n, card, latency_ms(runs.get(n, card)), BUDGET_LATENCY_MS, "ms")
     return rows
 
 

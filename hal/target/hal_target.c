@@ -15,3 +15,10 @@ void hal_stop(void)
     for (;;)
         hal_wr16(WDG_KICK, 0);
 }
+
+void hal_stop_no_kick(void)
+{
+    hal_irq_save();
+    for (;;)
+        ;
+}

@@ -7,7 +7,8 @@ follows: `run-ticks N off-sp`), anything else is injected at the tick the
 previous step stopped at:
 ("send", axis, mnemonic[, param]) through the DPRAM command queue,
 ("serial", axis, mnemonic[, param]) as a telegram on the serial line,
-("stop", bits) writes the stop-bit word at $4600 as the host.  The same script
+("stop", bits) writes the stop-bit word at $4600 as the host, ("script", line)
+is a line of the host script (a switch, a drive fault, /STOP).  The same script
 runs through build/mac4sim (the EPROM image on Musashi) and
 build/mac4sim-native-CARD (the firmware compiled for the host) with the axis
 board on logical time (`perf axis-sync on`), and the two runs must agree:
@@ -53,6 +54,8 @@ def script(steps, setup=()):
             out.append("tx-msg %d %s %s" % (st[1], st[2], st[3] if len(st) > 3 else ""))
         elif st[0] == "stop":
             out.append("poke16 0x4600 %d" % st[1])
+        elif st[0] == "script":        # a host-script line: the plant, a fault, /STOP
+            out.append(st[1])
         else:
             raise ValueError(st)
     out.append("run-ticks 4")

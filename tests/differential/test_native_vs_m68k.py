@@ -154,3 +154,120 @@ def test_stop_bits_at_every_phase_of_the_profile_period(card, extra):
     generator has got, i.e. on how fast the CPU is."""
     m, n, problems = compare(card, stop_scenario(card, extra), SCENARIOS[card][1])
     assert not problems, "\n".join(problems)
+
+
+# ---- every term, mode, measurement path and protective reaction ----------
+# (docs/hardening.md, "Mutation": tools/mutate.py shows that a small change
+# of the native build in any of them makes these fail)
+
+def servo_terms(card, at=0):
+    """Each axis its own filter, so that every term reaches the DAC word:
+    axis 0 zero and pole, axis 1 integrator against the torque limit <sw>,
+    axis 2 a large gain (the following error limit) with a small integrator
+    and a negative pole, axis 3 K only.  Then the modes one after another."""
+    s = []
+    if card == "ssi":
+        s += [("send", a, "UWSC", 2) for a in AXES] + [("ticks", 2)]
+    s += [("send", 1, "UWKISC", 3), ("send", 2, "UWKISC", 6), ("send", 0, "UWAO", 100), ("ticks", 2)]
+    if card == "inc":       # a circular axis (4.3.1.2)
+        s += [("send", 3, "UWSH", 2), ("send", 3, "UWCR", 3000), ("ticks", 1)]
+    s += [("send", a, "INIT") for a in AXES] + [("ticks", 4)]
+    s += [("send", a, "ME") for a in AXES] + [("ticks", 2)]
+    s += [("send", 0, "WGA", 80), ("send", 0, "WZE", 200), ("send", 0, "WPO", 60),
+          ("send", 1, "WKI", 3000), ("send", 1, "WSW", 300),
+          ("send", 2, "WGA", 3000), ("send", 2, "WKI", 40), ("send", 2, "WZE", 30), ("send", 2, "WPO", -100),
+          ("send", 3, "WGA", 50)]
+    s += [("send", a, "E") for a in AXES] + [("ticks", 6)]
+    s += positioning([at + 2500, at - 4000, at + 1500, at + 2000], 150, 15)
+    s += [("ticks", 90)] + reads() + [("ticks", 30)]
+    # the modes: speed and brake, velocity tracking and back to enable,
+    # position tracking, test (a DAC word), reset with <ed>
+    s += [("send", 0, "WPV", 80), ("send", 0, "MS"), ("send", 0, "E"),
+          ("send", 1, "WVT", -60), ("send", 1, "VT"), ("send", 1, "E"),
+          ("send", 2, "PT"), ("send", 2, "E"), ("send", 2, "WAT", at + 1800),
+          ("send", 3, "WDA", 250), ("send", 3, "MT"), ("send", 3, "E"), ("ticks", 12)]
+    s += [("send", 2, "WAT", at + 2300), ("send", 1, "WVT", 40), ("ticks", 12)]
+    s += [("send", 0, "MB"), ("send", 0, "E"), ("send", 1, "UE"), ("send", 1, "E"), ("send", 2, "WAT", at + 2000),
+          ("send", 3, "WDA", -300), ("ticks", 16)]
+    s += [("send", 3, "MRE"), ("send", 3, "E"), ("send", 0, "MRE"), ("send", 0, "E"), ("ticks", 30)]
+    s += reads() + [("send", a, m) for a in AXES for m in ("RED", "RCT")] + [("ticks", 4)]
+    return s
+
+
+def servo_protect(card, at=0):
+    """The protective reactions: following error (axis 0, a small <mf>),
+    software limit (axis 1), a limit switch (axis 2), then /STOP for all and
+    the watchdog <wd>.  (A drive fault is an input the main loop samples
+    between ticks, so the two builds see it at different ticks: the fault
+    matrix of tests/system/test_faults.py covers it.)"""
+    s = []
+    if card == "ssi":
+        s += [("send", a, "UWSC", 2) for a in AXES] + [("ticks", 2)]
+    s += [("send", 1, "UWLP", at + 1200), ("ticks", 1)]
+    s += [("send", a, "INIT") for a in AXES] + [("ticks", 4)]
+    s += [("send", a, "ME") for a in AXES] + [("send", 0, "WMF", 60)]
+    s += [("send", a, "E") for a in AXES] + [("ticks", 6)]
+    s += positioning([at + 3000, at + 3000, at + 3000, at - 3000], 200, 20)
+    s += [("ticks", 80)] + reads()
+    s += [("send", a, "C") for a in AXES] + [("ticks", 4)]
+    s += [("send", 3, "WAP", at - 500), ("send", 3, "MP"), ("send", 3, "E"), ("ticks", 10),
+          ("script", "estop on"), ("ticks", 10), ("script", "estop off"), ("ticks", 4)] + reads()
+    s += [("send", 0, "WWD", 30), ("ticks", 30)] + reads([0])
+    return s
+
+
+def servo_setup(card, at):
+    lines = ["switch 2 lp %d" % (at + 1500)]
+    if card == "ssi":
+        lines += ["plant %d pos %d" % (a, at) for a in AXES]
+    return lines
+
+
+def stp_terms():
+    """The STP's rate stage: TURBO (axis 0), a start/stop frequency with the
+    creep phase (axis 1), speed and brake (axis 2), velocity and position
+    tracking (axis 3), test mode; then a soft limit and a limit switch."""
+    s = [("send", 2, "UWLP", 2500), ("ticks", 1)]
+    s += [("send", a, "INIT") for a in AXES] + [("ticks", 4)]
+    s += [("send", a, "ME") for a in AXES] + [("send", 0, "TURBO", 1), ("ticks", 2)]
+    s += [("send", a, "E") for a in AXES] + [("ticks", 8)]
+    s += [("send", 1, "WSSF", 400), ("send", 1, "WSTC", 30), ("send", 1, "WLV", 80)]
+    s += positioning([6000, -2500, 800, 1200], 3000, 700)
+    s += [("ticks", 40)] + reads() + [("ticks", 30)]
+    s += [("send", 2, "WPV", 2500), ("send", 2, "MS"), ("send", 2, "E"),
+          ("send", 3, "WVT", -900), ("send", 3, "VT"), ("send", 3, "E"), ("ticks", 20)]
+    s += [("send", 3, "PT"), ("send", 3, "E"), ("send", 3, "WAT", 400), ("ticks", 8),
+          ("send", 3, "WAT", 900), ("ticks", 20), ("send", 0, "WDA", 3000), ("send", 0, "MT"), ("send", 0, "E"),
+          ("ticks", 10)] + reads()
+    s += [("send", 0, "MB"), ("send", 0, "E"), ("ticks", 40)]
+    s += reads() + [("send", a, m) for a in AXES for m in ("RED", "RCT", "RCPI")] + [("ticks", 4)]
+    return s
+
+
+TERMS = {
+    "inc": (lambda: servo_terms("inc"), ()),
+    "ssi": (lambda: servo_terms("ssi", SSI_AT), ["plant %d pos %d" % (a, SSI_AT) for a in AXES]),
+    "stp": (stp_terms, ["switch 3 lp 700"]),
+}
+PROTECT = {
+    "inc": (lambda: servo_protect("inc"), servo_setup("inc", 0)),
+    "ssi": (lambda: servo_protect("ssi", SSI_AT), servo_setup("ssi", SSI_AT)),
+}
+
+
+@pytest.mark.parametrize("card", ["inc", "ssi", "stp"])
+def test_every_filter_term_and_mode_agrees(card):
+    steps, setup = TERMS[card]
+    m, n, problems = compare(card, steps(), setup)
+    assert not problems, "\n".join(problems)
+    still = [a for a in AXES if moved(m, a) < 200]
+    assert not still, "%s: axes %s did not move" % (card, still)
+
+
+@pytest.mark.parametrize("card", ["inc", "ssi"])
+def test_the_protective_reactions_agree(card):
+    steps, setup = PROTECT[card]
+    m, n, problems = compare(card, steps(), setup)
+    assert not problems, "\n".join(problems)
+    # the reactions happened: errors answered (163 logical error) on the axes
+    assert sum(1 for e in m.events if e[1] == "resp" and e[2].split()[1] == "163") >= 3, m.events[-40:]

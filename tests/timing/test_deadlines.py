@@ -179,6 +179,24 @@ def test_command_latency_four_axes_moving(card):
     assert lat <= ps.BUDGET_LATENCY_MS, "%s command latency %.2f ms > %.1f ms" % (card, lat, ps.BUDGET_LATENCY_MS)
 
 
+def ext_cases():
+    return [(card, n) for card in ("inc", "ssi", "stp") for n in ps.EXT_SCENARIOS[card]]
+
+
+@pytest.mark.parametrize("card,name", ext_cases())
+def test_command_latency_with_the_extensions_on_four_axes(card, name):
+    """The extensions switched on for all four axes (perfscen.ext_lines):
+    the axes move, the extensions' work is seen after the ticks, and every
+    command of the window is answered within 2 ms."""
+    r = scenario(name, card)
+    assert not r["faults"], r["faults"][:3]
+    assert all(x >= TICK_MOVED_DEFAULT[card] for x in ps.moved(r)), ps.moved(r)
+    worst, per_tick = ps.ext_cost(r)
+    assert worst and per_tick, "the extensions' slices never ran"
+    lat = ps.latency_ms(r)
+    assert lat is not None and lat <= ps.BUDGET_LATENCY_MS, "%s %s latency %s ms" % (card, name, lat)
+
+
 def test_command_latency_idle_card_is_measured():
     """Reported beside the moving case (docs/performance.md); an idle card
     must answer within the same 2 ms."""
