@@ -136,6 +136,21 @@ $(B)/harness/%.o: harness/%.c Makefile | $(MUS)/m68kops.c
 $(B)/mac4sim: $(patsubst harness/%.c,$(B)/harness/%.o,$(HARNESS_SRCS)) $(MUSOBJ)
 	$(HOSTCC) $(HOSTCFLAGS) $^ -lm -o $@
 
+# ---- mac4sim with ASan and UBSan (docs/hardening.md, "Sanitizers"): `make
+# sanitize` runs every system test on it (MAC4SIM= tells conftest.py), the
+# script reader's tests are the short lane in make test -------------------------
+SAN_CFLAGS := -std=gnu11 -O2 -g $(HOSTWARN) -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+$(B)/san/mac4sim: $(HARNESS_SRCS) $(HARNESS_HDRS) $(MUSOBJ)
+	@mkdir -p $(@D); ln -sfn ../eprom $(@D)/eprom; ln -sf ../commands.json $(@D)/commands.json
+	$(HOSTCC) $(SAN_CFLAGS) -Iharness -Ihal -Ifirmware -I$(MUS) -DMUSASHI_CNF='"musashi_cnf.h"' \
+		$(HARNESS_SRCS) $(MUSOBJ) -lm -o $@
+.PHONY: sanitize sanitize-short
+sanitize: all $(B)/san/mac4sim
+	MAC4SIM=$(B)/san/mac4sim $(PYTHON) -m pytest -q tests/system
+sanitize-short: all $(B)/san/mac4sim
+	MAC4SIM=$(B)/san/mac4sim $(PYTHON) -m pytest -q tests/system/test_script_reader.py tests/system/test_scenarios.py
+test: sanitize-short
+
 # ---- the native builds: the firmware compiled for the host as the CPU -------
 # (harness/cpu_native.h).  Per card: the firmware, hal/native and the integer
 # runtime in one relocatable object with only the entry points global and its

@@ -372,9 +372,8 @@ const cpu_t *serial_host_cpu(const cpu_t *c)
 
 int serial_host_script_run(script_t *sc, sim_t *s, FILE *in)
 {
-    char buf[1024];
-    while (fgets(buf, sizeof buf, in)) {
-        sc->line++;
+    char buf[SCRIPT_LINE_MAX + 2];
+    while (script_getline(sc, in, buf) > 0) {
         int is_time = time_command(buf);
         slog_line(s, buf, is_time);
         int r = script_line(sc, s, buf);

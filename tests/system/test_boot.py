@@ -62,7 +62,8 @@ def test_one_byte_change_stops_at_checksum(tmp_path, offset):
     bad = _corrupt(tmp_path, "inc", offset)
     peeks = "".join("peek32 0x%X\n" % a for a in (board.DPC_BOOT_ERROR, board.DPC_CRC_EXPECTED, board.DPC_CRC_COMPUTED))
     r = sim("run 3000\n" + peeks + "queues\n", img=bad)
-    assert r.rc == 0, r.stderr                 # the card stops cleanly, no emulator fault
+    # the card stops cleanly, no emulator fault: exit status 4, the card stopped
+    assert r.rc == 4 and not r.faults() and "stopped with the display at 3." in r.stderr, r.stderr
     assert r.displays() == ["1", "2", "3", "3."]
     assert r.peek(board.DPC_BOOT_ERROR) == board.DPC_ERR_CHECKSUM   # the host can read why
     assert r.grep(r"^queue command .* nel=\$A") == []  # never became ready
