@@ -1,7 +1,7 @@
 /*
  * fw.h - the firmware's entry points.  On the 68000 crt0 and the vector
  * stubs in hal/target call them; in the native build the emulator's
- * scheduler calls them directly (harness/native_cpu.c).
+ * scheduler calls them directly (harness/cpu_native.c).
  */
 #ifndef FW_H
 #define FW_H

@@ -4,7 +4,8 @@
  * receivers, DAC or step-rate outputs with the step generator and its pulse
  * down-counter, switch inputs.  The motors, encoders and switches behind the
  * board are in plant.c; the VME master window's slave boards in plant_vme.c.
- * Every access brings the plant up to the cycle it happens (sim_now).
+ * Every access brings the plant up to the cycle it happens (sim_now).  A
+ * device of periph.c's table; the timer's expiry reaches it as a signal.
  */
 #include "sim.h"
 #include "periph.h"
@@ -129,10 +130,30 @@ unsigned axisboard_leds(sim_t *s, int n)
 /* Reset (tables 2.2, 2.6, 2.12): /EN open, DAC 0 V, rate 0, DIR and BOOST
  * open collector, counters, latches, SSI receivers and pulse logic cleared.
  * The plant itself is not reset: the motors coast. */
-void axisboard_reset(sim_t *s) { plant_reset(s); }
+static void axisboard_reset(sim_t *s) { plant_reset(s); }
 
 /* With axis_sync the plant lives on the axis clock: it is brought up to date
  * at every access and every scheduler event, never scheduled in real time. */
-cyc_t axisboard_next_event(sim_t *s) { return s->axis_sync ? CYC_NEVER : plant_next_event(s); }
+static cyc_t axisboard_next_event(sim_t *s) { return s->axis_sync ? CYC_NEVER : plant_next_event(s); }
 
-void axisboard_events(sim_t *s, cyc_t now) { plant_events(s, s->axis_sync ? sim_axis_peek(s) : now); }
+static void axisboard_events(sim_t *s, cyc_t now) { plant_events(s, s->axis_sync ? sim_axis_peek(s) : now); }
+
+static unsigned axisboard_irq_lines(sim_t *s) { return axis_irq_rd(s, 0, 2) ? 1u << IRQ_LEVEL_AXIS : 0; }
+
+/* The timer expired at `at`: the SSI receivers set to AX_CTRL_SSI_SYNC
+ * freeze their encoders and start reading (on the axis clock of the
+ * differential test, at the axis clock's time); each tells the timer how
+ * long it reads. */
+static void axisboard_tmr_expired(sim_t *s, uint64_t at)
+{
+    for (int n = 0; n < MAC4_NAXES; n++)
+        if (s->card == MAC4_CARD_SSI && (s->ax[n].ctrl & AX_CTRL_SSI_SYNC)) {
+            plant_ssi_start(s, n, s->axis_sync ? sim_axis_peek(s) : at);
+            sig_raise(s, SIG_SSI_BUSY, s->plant.ax[n].ssi_end);
+        }
+}
+
+void axisboard_connect(sim_t *s) { sig_connect(s, SIG_TMR_EXPIRED, axisboard_tmr_expired); }
+
+const device_t axisboard_device = {"axis", axisboard_reset, axisboard_next_event, axisboard_events,
+                                   axisboard_irq_lines};

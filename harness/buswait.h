@@ -46,7 +46,7 @@ void buswait_print(FILE *f);            /* the configuration, one line */
 void buswait_print_stats(FILE *f);      /* `bus-stats` */
 void buswait_reset_stats(void);
 /* A copy of the counts and the cycle count at an instant (the display's
- * last change, periph.c): `bus-stats display` prints it. */
+ * last change, sysctl.c): `bus-stats display` prints it. */
 void buswait_mark(uint64_t now);
 void buswait_print_mark(FILE *f);
 

@@ -42,10 +42,9 @@ static long lookup(const char *tok)
 
 long script_code(const char *tok)
 {
-    char *end;
-    long v = strtol(tok, &end, 0);
-    if (end != tok && !*end)
-        return (v >= 0 && v <= 0xFFFF) ? v : -1;
+    long long v;
+    if (script_parse_num(tok, &v) == 0)      /* decimal, 0x or $ hex */
+        return (v >= 0 && v <= 0xFFFF) ? (long)v : -1;
     long c = lookup(tok);
     if (c >= 0)
         return c;

@@ -13,6 +13,10 @@ typedef struct {
 } cpu_t;
 
 extern const cpu_t cpu_m68k;
+/* 1 (default): the emulator's speedups (cpu_m68k.c, docs/performance.md);
+ * 0 (mac4sim --no-fast): all off, every fetch through the memory
+ * callbacks.  Outputs and cycle counts are the same either way. */
+extern int mac4_fast;
 
 /* run.c: the scheduler */
 void sim_attach_cpu(sim_t *s, const cpu_t *cpu);

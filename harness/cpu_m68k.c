@@ -12,6 +12,7 @@
 #include "buswait.h"
 #include "gdbstub.h"
 
+int mac4_fast = 1;          /* mac4sim --no-fast: every speedup below off (cpu.h) */
 static int expect_vector;   /* an interrupt acknowledge precedes its vector fetch */
 static int in_slice;        /* m68k_cycles_run() is only meaningful inside m68k_execute */
 static cyc_t slice_done;    /* cycles of the slice before a gdb stop (gdbstub.c) */
@@ -161,6 +162,21 @@ void m68k_write_memory_32(unsigned int a, unsigned int v)
     }
 }
 
+/* Opcode and immediate fetches from the EPROM bypass the callbacks (our
+ * patch 0006-fetch-window): the same words, the same wait states charged
+ * and counted per bus cycle as bus_cycles() would.  Off under gdb, whose
+ * watchpoints see every access, and with --no-fast. */
+static void fetch_window_set(void)
+{
+    unsigned r = buswait_page[EPROM_BASE >> 8];
+    m68k_fetch_window.mem = g_sim->eprom;
+    m68k_fetch_window.base = EPROM_BASE;
+    m68k_fetch_window.span = mac4_fast && !mac4_gdb_on ? EPROM_SIZE - 1 : 0;
+    m68k_fetch_window.wait = buswait_cfg.ws[r][0];
+    m68k_fetch_window.bus_cycles = &buswait_stats.cycles[r][0];
+    m68k_fetch_window.wait_clocks = &buswait_stats.wait[r][0];
+}
+
 /* The 68000's bus cycles that carry no data to the emulator (musashi_cnf.h,
  * docs/cpu-timing.md): prefetch refills, the read of CLR/Scc/MOVE from SR
  * before their write, MOVEM's extra word.  No device sees them: a read of
@@ -245,6 +261,7 @@ static cyc_t m68k_cpu_execute(sim_t *s, cyc_t max)
     in_slice = 1;
     slice_done = 0;
     for (;;) {
+        fetch_window_set();
         profile_slice_start();
         int ran = m68k_execute((int)(max - slice_done));
         profile_slice_end(ran);
@@ -261,6 +278,7 @@ static cyc_t m68k_cpu_execute(sim_t *s, cyc_t max)
         gdbstub_resume_in_slice();
     }
     in_slice = 0;
+    m68k_fetch_window.span = 0;     /* outside a slice (the reset's fetches): the callbacks */
     return slice_done;
 }
 

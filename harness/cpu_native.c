@@ -12,7 +12,7 @@
 #include "hal.h"
 #include "fw.h"
 
-/* hal/native/hal_native.c */
+/* harness/hal_native.c */
 extern jmp_buf *hal_native_stop_jmp;
 unsigned hal_native_irq_mask(void);
 

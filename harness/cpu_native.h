@@ -2,7 +2,7 @@
  * cpu_native.h - the firmware compiled for the host as a CPU backend
  * (docs/performance.md, "Native and 68000 agree").
  *
- * The firmware (firmware, hal/native, hal/target/runtime.c) is built for
+ * The firmware (firmware, harness/hal_native.c, hal/target/runtime.c) is built for
  * one card into build/native-CARD/fw.o with only its entry points global,
  * and linked with the emulator into build/mac4sim-native-CARD.  The same
  * scheduler, bus, peripheral and plant models serve it; instead of

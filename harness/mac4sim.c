@@ -35,7 +35,9 @@ static void usage(FILE *f)
             "                       of hal/mac4_map.h (regions: dpram eprom sram vme sys\n"
             "                       timer uart virq watchdog axis axis-irq unmapped)\n"
             "  --iack autovector|vectored  interrupt acknowledge (default autovector, via VPA)\n"
-            "  --allow-faults       exit 0 even when the emulator saw faults\n"
+            "  --allow-faults       no exit status 3 or 4: faults are what the test wants\n"
+            "  --no-fast            every emulator speedup off (same output, slower;\n"
+            "                       docs/performance.md)\n"
             "  --serial-pty         front-panel serial line on a pseudo-terminal (prints\n"
             "                       'serial-pty /dev/pts/N'); after the script the card\n"
             "                       keeps running in real time until the pty is closed\n"
@@ -56,15 +58,16 @@ static void usage(FILE *f)
             "                       card runs on in real time (docs/debugging.md)\n"
             "                       --serve-seconds N bounds that too\n"
             "  --help               this text\n"
-            "Exit status: 0 ok, 1 usage or script error, 3 emulator faults seen.\n");
+            "Exit status (the first that applies, in this order): 1 usage or script error,\n"
+            "  3 the emulator saw a fault, 4 the card ended stopped with an error (display\n"
+            "  X.: a boot step failed, F.), 2 a wait-display timed out; else 0.\n");
 }
 
 /* A TCP port on 127.0.0.1 in decimal, 0..65535 (0: any free one); -1 if not. */
 static int tcp_port(const char *val)
 {
-    char *end;
-    long p = strtol(val, &end, 10);
-    return end == val || *end || p < 0 || p > 65535 ? -1 : (int)p;
+    long long p;
+    return script_parse_num(val, &p) || p < 0 || p > 65535 ? -1 : (int)p;
 }
 
 int main(int argc, char **argv)
@@ -94,9 +97,18 @@ int main(int argc, char **argv)
             script = val;
             i++;
         } else if (!strcmp(a, "--irq-level") && val) {
-            level = atoi(val);
+            long long l;
+            if (script_parse_num(val, &l) || l < 1 || l > 7) {
+                fprintf(stderr, "mac4sim: bad --irq-level '%s' (1..7)\n", val);
+                return 1;
+            }
+            level = (int)l;
             i++;
         } else if (!strcmp(a, "--j11") && val) {
+            if (strcmp(val, "in") && strcmp(val, "out")) {
+                fprintf(stderr, "mac4sim: bad --j11 '%s' (in or out)\n", val);
+                return 1;
+            }
             j11 = !strcmp(val, "in");
             i++;
         } else if (!strcmp(a, "--wait-states") && val) {
@@ -114,6 +126,8 @@ int main(int argc, char **argv)
             i++;
         } else if (!strcmp(a, "--timestamps")) {
             timestamps = 1;
+        } else if (!strcmp(a, "--no-fast")) {
+            mac4_fast = 0;
         } else if (!strcmp(a, "--allow-faults")) {
             allow_faults = 1;
         } else if (!strcmp(a, "--serial-pty") || (!strcmp(a, "--serial-pty-link") && val)) {
@@ -154,9 +168,7 @@ int main(int argc, char **argv)
             }
             i++;
         } else if (!strcmp(a, "--serve-seconds") && val) {
-            char *end;
-            serve_seconds = strtod(val, &end);
-            if (end == val || *end || !(serve_seconds > 0)) {
+            if (script_parse_real(val, &serve_seconds) || !(serve_seconds > 0)) {
                 fprintf(stderr, "mac4sim: bad --serve-seconds '%s'\n", val);
                 return 1;
             }
@@ -220,13 +232,13 @@ int main(int argc, char **argv)
     sim_attach_cpu(&card, cpu);
 
     FILE *in = strcmp(script, "-") ? fopen(script, "r") : stdin;
-    if (!in) {
-        fprintf(stderr, "mac4sim: cannot open script '%s'\n", script);
+    if (!in || script_check_file(in)) {
+        fprintf(stderr, "mac4sim: cannot open script '%s'%s\n", script, in ? " (a directory)" : "");
         return 1;
     }
     if (gdb_port >= 0 && gdbstub_attach(&card, gdb_port))
         return 1;
-    script_t sc = {script, 0, 0};
+    script_t sc = {script, 0, 0, 0};
     int errors = serial_host_script_run(&sc, &card, in);
     if (in != stdin)
         fclose(in);
@@ -234,7 +246,16 @@ int main(int argc, char **argv)
         return 1;
     serial_host_serve(&card, serve_seconds);
     bench_serve(&card, serve_seconds);   /* while the panel is open or gdb attached */
+    /* the card stopped with an error: a boot step (2., 3.) or F. (firmware/boot.c) */
     if (card.faults && !allow_faults)
         return 3;
+    if ((card.display & SYS_DISPLAY_DP) && card.display != 0xFF && !allow_faults) {
+        fprintf(stderr, "mac4sim: the card stopped with the display at %X.\n", card.display & 0xF);
+        return 4;
+    }
+    if (script_waits_timed_out) {
+        fprintf(stderr, "mac4sim: %d wait-display timed out\n", script_waits_timed_out);
+        return 2;
+    }
     return 0;
 }

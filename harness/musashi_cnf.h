@@ -63,6 +63,10 @@ int mac4_gdb_instr(unsigned pc);
  * two, plus these are the 68000's bus cycles of each instruction. */
 void mac4_bus_extra(unsigned address, int n);
 #define M68K_BUS_EXTRA_CALLBACK(A, N) mac4_bus_extra(A, N)
+/* No bus error is ever pulsed here (faults are reported, cpu_m68k.c), so
+ * the core saves no registers for one (our patch 0005-bus-error-save):
+ * m68k_pulse_bus_error refuses with a message. */
+#define M68K_EMULATE_BUS_ERROR      OPT_OFF
 #define M68K_EMULATE_PREFETCH       OPT_OFF
 #define M68K_EMULATE_ADDRESS_ERROR  OPT_ON
 #define M68K_ALINE_HOOK             OPT_OFF

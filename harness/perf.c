@@ -817,8 +817,8 @@ static int cmd_run_ticks(script_t *sc, sim_t *s, char **tok, int n)
 {
     long long k;
     int off_sp = n == 3 && !strcmp(tok[2], "off-sp");
-    if ((n != 2 && !off_sp) || script_parse_num(tok[1], &k) || k < 0)
-        return script_err(sc, "usage: %s N [off-sp]", "run-ticks");
+    if ((n != 2 && !off_sp) || script_parse_num(tok[1], &k) || k < 1 || k > 100000000)
+        return script_err(sc, "usage: %s N [off-sp] (N ticks, 1..100000000)", "run-ticks");
     install(s);
     tick_poll(s);
     uint64_t want = tick_no + (uint64_t)k;

@@ -1,5 +1,7 @@
-#ifndef PROFILE_H
-#define PROFILE_H
+/* profile.h - the emulator's instruction profile (harness/profile.c); not
+ * firmware/profile.h, the profile generator */
+#ifndef HARNESS_PROFILE_H
+#define HARNESS_PROFILE_H
 #include <stdio.h>
 int profile_load_symbols(const char *path);   /* nm output; returns the count or -1 */
 void profile_set(int on);
@@ -12,4 +14,4 @@ int profile_pcs(const char *path);            /* per instruction: "pc cycles cou
 #include <stdint.h>
 void profile_set_hook(void (*hook)(unsigned pc));          /* NULL: none */
 int profile_symbol(const char *name, uint32_t *addr);     /* 0 when found */
-#endif
+#endif /* HARNESS_PROFILE_H */

@@ -8,7 +8,9 @@
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <limits.h>
 #include <string.h>
+#include <sys/stat.h>
 #include "script.h"
 #include "cpu.h"
 #include "periph.h"
@@ -16,31 +18,83 @@
 #include "buswait.h"
 #include "plant.h"
 
-#define MAXTOK 64
+/* A line holds at most 1023 characters (SCRIPT_LINE_MAX), so at most 512
+ * tokens: a line can never have more than MAXTOK. */
+#define MAXTOK (SCRIPT_LINE_MAX / 2 + 2)
 
-/* Numbers: decimal (signed), 0x or $ hexadecimal. */
+/* The one number reader of the script vocabulary and of mac4sim's options.
+ * Integers: [+-] then decimal digits, or 0x / $ and hexadecimal digits.  A
+ * leading zero is decimal (0100 is one hundred, as in mac4host); nothing
+ * else (spaces, octal, 0b, a trailing letter) is a number. */
 int script_parse_num(const char *t, long long *out)
 {
-    char *end;
-    errno = 0;
-    long long v;
-    if (t[0] == '$')
-        v = (long long)strtoull(t + 1, &end, 16);
-    else if (t[0] == '-' || t[0] == '+')
-        v = strtoll(t, &end, 0);
-    else
-        v = (long long)strtoull(t, &end, 0);
-    if (errno || end == t || *end)
+    int neg = 0, base = 10;
+    const char *p = t;
+    if (*p == '+' || *p == '-')
+        neg = *p++ == '-';
+    if (p[0] == '$') {
+        base = 16;
+        p++;
+    } else if (p[0] == '0' && (p[1] == 'x' || p[1] == 'X')) {
+        base = 16;
+        p += 2;
+    }
+    if (!*p)
+        return -1;
+    unsigned long long v = 0;
+    for (; *p; p++) {
+        int d = isdigit((unsigned char)*p) ? *p - '0'
+              : base == 16 && isxdigit((unsigned char)*p) ? tolower((unsigned char)*p) - 'a' + 10 : -1;
+        if (d < 0)
+            return -1;
+        if (v > (ULLONG_MAX - (unsigned)d) / (unsigned)base)
+            return -1;
+        v = v * (unsigned)base + (unsigned)d;
+    }
+    if (v > (unsigned long long)LLONG_MAX + (unsigned)neg)
+        return -1;
+    *out = neg ? (long long)(0 - v) : (long long)v;
+    return 0;
+}
+
+/* Real numbers (times, plant parameters): [+-] digits [. digits] [e [+-] digits],
+ * decimal only: no hexadecimal, no nan or inf. */
+int script_parse_real(const char *t, double *out)
+{
+    const char *p = t;
+    int digits = 0;
+    if (*p == '+' || *p == '-')
+        p++;
+    for (; isdigit((unsigned char)*p); p++)
+        digits++;
+    if (*p == '.')
+        for (p++; isdigit((unsigned char)*p); p++)
+            digits++;
+    if (!digits)
+        return -1;
+    if (*p == 'e' || *p == 'E') {
+        p++;
+        if (*p == '+' || *p == '-')
+            p++;
+        if (!isdigit((unsigned char)*p))
+            return -1;
+        while (isdigit((unsigned char)*p))
+            p++;
+    }
+    if (*p)
+        return -1;
+    double v = strtod(t, NULL);
+    if (!(v > -1e300 && v < 1e300))
         return -1;
     *out = v;
     return 0;
 }
 
-static int parse_ms(const char *t, cyc_t *out)
+/* Milliseconds of emulated time, 0 to one hour. */
+int script_parse_ms(const char *t, cyc_t *out)
 {
-    char *end;
-    double ms = strtod(t, &end);
-    if (end == t || *end || ms < 0 || ms > 3.6e6)
+    double ms;
+    if (script_parse_real(t, &ms) || !(ms >= 0 && ms <= 3.6e6))
         return -1;
     *out = (cyc_t)(ms * 16000.0 + 0.5);
     return 0;
@@ -55,12 +109,16 @@ int script_err(script_t *sc, const char *fmt, const char *arg)
     return -1;
 }
 
-static int dp_off(script_t *sc, const char *t, uint32_t *off, int align)
+/* A DPRAM offset for an access of w bytes: all of it inside the DPRAM (a
+ * long at $FFFE does not wrap round to the vectors at 0). */
+static int dp_off(script_t *sc, const char *t, uint32_t *off, int w)
 {
     long long v;
-    if (script_parse_num(t, &v) || v < 0 || v >= (long long)DPRAM_SIZE)
-        return script_err(sc, "bad DPRAM offset '%s' (0..0xFFFF)", t);
-    if (align > 1 && (v & 1))
+    if (script_parse_num(t, &v) || v < 0 || v > (long long)DPRAM_SIZE - w)
+        return script_err(sc, w == 4 ? "bad DPRAM offset '%s' for a long (0..0xFFFC)"
+                          : w == 2 ? "bad DPRAM offset '%s' for a word (0..0xFFFE)"
+                          : "bad DPRAM offset '%s' (0..0xFFFF)", t);
+    if (w > 1 && (v & 1))
         return script_err(sc, "odd DPRAM offset '%s' for a word access", t);
     *off = (uint32_t)v;
     return 0;
@@ -98,7 +156,11 @@ static void print_queue(sim_t *s, const char *name, uint32_t q)
                dp_rd32(s, q + QH_FREE), dp_rd32(s, q + QH_WIDTH), dp_rd32(s, q + QH_NEL));
 }
 
-static int on_off(const char *t) { return !strcmp(t, "on") || !strcmp(t, "1") || !strcmp(t, "in"); }
+/* on|1 -> 1, off|0 -> 0, anything else -1 (in|out for a jumper: jumper_in) */
+static int on_off(const char *t) { return !strcmp(t, "on") || !strcmp(t, "1") ? 1 : !strcmp(t, "off") || !strcmp(t, "0") ? 0 : -1; }
+static int jumper_in(const char *t) { return !strcmp(t, "in") ? 1 : !strcmp(t, "out") ? 0 : -1; }
+
+int script_waits_timed_out;
 
 int script_line(script_t *sc, sim_t *s, char *line)
 {
@@ -107,8 +169,11 @@ int script_line(script_t *sc, sim_t *s, char *line)
         *hash = 0;
     char *tok[MAXTOK];
     int n = 0;
-    for (char *p = strtok(line, " \t\r\n"); p && n < MAXTOK; p = strtok(NULL, " \t\r\n"))
+    for (char *p = strtok(line, " \t\r\n"); p; p = strtok(NULL, " \t\r\n")) {
+        if (n == MAXTOK)
+            return script_err(sc, "more than %s words on the line", "512");
         tok[n++] = p;
+    }
     if (n == 0)
         return 0;
     const char *c = tok[0];
@@ -119,8 +184,8 @@ int script_line(script_t *sc, sim_t *s, char *line)
     if (!strcmp(c, "send"))
         return cmd_send(sc, s, tok, n);
     if (!strcmp(c, "run")) {
-        if (n != 2 || parse_ms(tok[1], &cyc))
-            return script_err(sc, "usage: %s MS", "run");
+        if (n != 2 || script_parse_ms(tok[1], &cyc))
+            return script_err(sc, "usage: %s MS (decimal milliseconds, 0..3600000)", "run");
         sim_run(s, cyc);
         return 0;
     }
@@ -149,15 +214,20 @@ int script_line(script_t *sc, sim_t *s, char *line)
         return 0;
     }
     if (!strcmp(c, "wait-display")) {
-        long long want, limit_ms = 5000;
-        if (n < 2 || n > 3 || script_parse_num(tok[1], &want) || (n == 3 && script_parse_num(tok[2], &limit_ms)))
-            return script_err(sc, "usage: %s DIGIT [MS]", c);
-        for (long long t = 0; t < limit_ms * 10; t++) {
+        long long want;
+        cyc_t limit = MS_TO_CYC(5000), waited;
+        if (n < 2 || n > 3 || script_parse_num(tok[1], &want) || want < 0 || want > 15 ||
+            (n == 3 && script_parse_ms(tok[2], &limit)))
+            return script_err(sc, "usage: %s DIGIT [MS] (digit 0..15, decimal ms 0..3600000)", c);
+        for (waited = 0;; waited += US_TO_CYC(100)) {
             if ((s->display & 0xF) == want && !(s->display & SYS_DISPLAY_DP))
                 return 0;
+            if (waited >= limit)
+                break;
             sim_run(s, US_TO_CYC(100));
         }
         sim_printf(s, "timeout wait-display %s\n", tok[1]);
+        script_waits_timed_out++;     /* mac4sim's exit status 2 */
         return 0;
     }
     if (!strcmp(c, "queues")) {
@@ -192,7 +262,7 @@ int script_line(script_t *sc, sim_t *s, char *line)
         }
         if (n >= 2 && !strcmp(tok[1], "report")) {
             long long top = 20;
-            if (n == 3 && script_parse_num(tok[2], &top))
+            if (n > 3 || (n == 3 && (script_parse_num(tok[2], &top) || top < 1 || top > 100000)))
                 return script_err(sc, "usage: %s report [N]", c);
             profile_report(s->out, (unsigned)top);
             return 0;
@@ -262,13 +332,13 @@ int script_line(script_t *sc, sim_t *s, char *line)
         return 0;
     }
     if (!strcmp(c, "host")) {
-        if (n != 3 || strcmp(tok[1], "read"))
+        if (n != 3 || strcmp(tok[1], "read") || on_off(tok[2]) < 0)
             return script_err(sc, "usage: %s read on|off", c);
         s->host_reads = on_off(tok[2]);
         return 0;
     }
     if (!strcmp(c, "estop")) {
-        if (n != 2)
+        if (n != 2 || on_off(tok[1]) < 0)
             return script_err(sc, "usage: %s on|off", c);
         estop_set(s, on_off(tok[1]));
         sim_update_irq(s);
@@ -281,9 +351,9 @@ int script_line(script_t *sc, sim_t *s, char *line)
         return 0;
     }
     if (!strcmp(c, "jumper")) {
-        if (n != 3 || strcmp(tok[1], "j11"))
+        if (n != 3 || strcmp(tok[1], "j11") || jumper_in(tok[2]) < 0)
             return script_err(sc, "usage: %s j11 in|out", c);
-        s->wdg.j11 = on_off(tok[2]);
+        s->wdg.j11 = jumper_in(tok[2]);
         return 0;
     }
     if (!strcmp(c, "reset")) {
@@ -309,11 +379,42 @@ int script_line(script_t *sc, sim_t *s, char *line)
     return script_err(sc, "unknown command '%s' (see docs/host-script.md)", c);
 }
 
+/* The next line of a script into buf (SCRIPT_LINE_MAX + 2 bytes): 1, or 0 at
+ * the end.  A line longer than SCRIPT_LINE_MAX, a NUL byte or a read error
+ * is not a script: an error with its line number, and -1 (the caller stops
+ * reading, so /dev/zero or a binary file ends at once). */
+int script_getline(script_t *sc, FILE *in, char *buf)
+{
+    size_t len = 0;
+    int c;
+    while ((c = getc(in)) != EOF) {
+        if (len == 0)
+            sc->line++;
+        if (c == 0)
+            return script_err(sc, "a NUL byte in the line (%s)", "not a text file?");
+        if (len == SCRIPT_LINE_MAX && c != '\n')
+            return script_err(sc, "line longer than %s characters", "1023");
+        buf[len++] = (char)c;
+        if (c == '\n')
+            break;
+    }
+    buf[len] = 0;
+    if (c == EOF && ferror(in))
+        return script_err(sc, "cannot read the script (%s)", "a directory?");
+    return len > 0;
+}
+
+/* A script file to read: 0, or -1 if f is a directory (which fopen opens). */
+int script_check_file(FILE *f)
+{
+    struct stat st;
+    return fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode) ? -1 : 0;
+}
+
 int script_run(script_t *sc, sim_t *s, FILE *in)
 {
-    char buf[1024];
-    while (fgets(buf, sizeof buf, in)) {
-        sc->line++;
+    char buf[SCRIPT_LINE_MAX + 2];
+    while (script_getline(sc, in, buf) > 0) {
         int r = script_line(sc, s, buf);
         if (r > 0)
             break;

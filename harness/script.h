@@ -7,6 +7,7 @@ typedef struct {
     const char *name;
     int line;
     int errors;
+    int depth;           /* include nesting: 0 the script itself */
 } script_t;
 
 int script_line(script_t *sc, sim_t *s, char *line);   /* 1 on quit, -1 on error */
@@ -15,6 +16,13 @@ long script_code(const char *tok);                     /* code or mnemonic, -1 i
 
 /* helpers for command families in other files */
 int script_parse_num(const char *t, long long *out);  /* decimal, 0x or $ hex; 0 ok */
+int script_parse_real(const char *t, double *out);    /* decimal fraction [e exp]; 0 ok */
+int script_parse_ms(const char *t, cyc_t *out);       /* decimal ms 0..3600000; 0 ok */
+#define SCRIPT_LINE_MAX 1023                           /* characters of a line, newline aside */
+int script_getline(script_t *sc, FILE *in, char *buf);  /* buf: SCRIPT_LINE_MAX + 2; 1, 0 end, -1 */
+int script_check_file(FILE *f);                       /* -1: a directory */
+extern int script_waits_timed_out;                     /* wait-display timeouts so far */
+extern int script_includes;                            /* files included so far (at most 1000) */
 int script_err(script_t *sc, const char *fmt, const char *arg);   /* returns -1 */
 
 /* Command families beside their models: return SCRIPT_NOT_MINE for a command

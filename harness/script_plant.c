@@ -17,9 +17,8 @@ static int parse_axis(script_t *sc, const char *t, int *n)
 
 static int parse_double(script_t *sc, const char *t, double *out, double min, double max)
 {
-    char *end;
-    double v = strtod(t, &end);
-    if (end == t || *end || !(v >= min && v <= max))
+    double v;
+    if (script_parse_real(t, &v) || !(v >= min && v <= max))
         return script_err(sc, "bad or out-of-range number '%s'", t);
     *out = v;
     return 0;
@@ -454,7 +453,11 @@ static int cmd_trace(script_t *sc, sim_t *s, char **tok, int nt)
  * scenarios, tests/scenarios/).  A relative FILE is looked for beside the
  * including script first, then in the current directory. */
 #define INCLUDE_DEPTH 8
-static int include_depth;
+/* Files that include themselves more than once a file multiply at every
+ * level (10 lines of `include self` 8 deep would be 10^8 files): a run opens
+ * at most INCLUDE_FILES included files in all. */
+#define INCLUDE_FILES 1000
+int script_includes;
 
 static FILE *open_beside(const char *including, const char *file, char *used, size_t len)
 {
@@ -475,23 +478,27 @@ static int cmd_include(script_t *sc, sim_t *s, char **tok, int nt)
 {
     if (nt != 2)
         return script_err(sc, "usage: %s", "include FILE");
-    if (include_depth >= INCLUDE_DEPTH)
+    if (sc->depth >= INCLUDE_DEPTH)
         return script_err(sc, "include: nested deeper than 8 (a loop?) at '%s'", tok[1]);
+    if (script_includes >= INCLUDE_FILES)
+        return script_err(sc, "include: more than 1000 files included in all (a runaway?) at '%s'", tok[1]);
     char path[2048];
     FILE *f = open_beside(sc->name, tok[1], path, sizeof path);
     if (!f)
         return script_err(sc, "include: cannot open '%s'", tok[1]);
-    script_t inner = {path, 0, 0};
-    char buf[1024];
+    if (script_check_file(f)) {
+        fclose(f);
+        return script_err(sc, "include: '%s' is a directory", tok[1]);
+    }
+    script_includes++;
+    script_t inner = {path, 0, 0, sc->depth + 1};
+    char buf[SCRIPT_LINE_MAX + 2];
     int r = 0;
-    include_depth++;
-    while (fgets(buf, sizeof buf, f)) {
-        inner.line++;
+    while (script_getline(&inner, f, buf) > 0) {
         r = script_line(&inner, s, buf);
         if (r > 0)
             break;
     }
-    include_depth--;
     fclose(f);
     sc->errors += inner.errors;      /* reported with the included file's name and line */
     return r > 0 ? 1 : inner.errors ? -1 : 0;

@@ -1,7 +1,7 @@
 /*
  * serial_host.c - the far end of the card's front-panel serial line.
  *
- * Towards the card, bytes go through uart_feed() (periph.c), which times
+ * Towards the card, bytes go through uart_feed() (uart.c), which times
  * every character on the wire (2.083 ms at 4800 8N1).  Bytes the card sends
  * arrive one by one through the UART's on_tx callback, at the cycle their
  * stop bit ends; they are collected into groups printed as
@@ -372,9 +372,8 @@ const cpu_t *serial_host_cpu(const cpu_t *c)
 
 int serial_host_script_run(script_t *sc, sim_t *s, FILE *in)
 {
-    char buf[1024];
-    while (fgets(buf, sizeof buf, in)) {
-        sc->line++;
+    char buf[SCRIPT_LINE_MAX + 2];
+    while (script_getline(sc, in, buf) > 0) {
         int is_time = time_command(buf);
         slog_line(s, buf, is_time);
         int r = script_line(sc, s, buf);

@@ -25,6 +25,7 @@ void sim_init(sim_t *s, int card)
     for (int i = 0; i < SRC_COUNT; i++)
         s->irq[i].min = s->irq[i].xmin = CYC_NEVER;
     memset(s->eprom, 0xFF, sizeof s->eprom);
+    periph_connect(s);
     /* Power-on DPRAM and SRAM contents are not zero on real parts. */
     for (unsigned i = 0; i < sizeof s->dpram; i++)
         s->dpram[i] = (uint8_t)(i * 131u + 7u);

@@ -36,6 +36,24 @@ typedef struct {
     cyc_t lat_max, lat_sum, lat_worst_at;
 } irqstat_t;
 
+/* Named signals between the device models (as simavr's IRQs): a device
+ * raises one with a value, the devices periph_connect() wired to it at
+ * sim_init react, in the order they were connected.  No device calls into
+ * another's model for what a wire between the two carries. */
+struct sim;
+typedef void (*sim_sig_hook_t)(struct sim *s, uint64_t value);
+#define SIM_SIG_HOOKS 4
+typedef struct {
+    const char *name;
+    sim_sig_hook_t hook[SIM_SIG_HOOKS];
+    unsigned n;
+} sim_sig_t;
+enum {
+    SIG_TMR_EXPIRED,               /* timer -> axis board: it expired; value: the expiry's cycle count */
+    SIG_SSI_BUSY,                  /* axis board -> timer: an SSI receiver reads until value (a cycle count) */
+    SIG_COUNT
+};
+
 typedef struct {
     uint16_t period_us, ctrl, status;
     cyc_t next;                    /* next expiry, CYC_NEVER when stopped */
@@ -105,6 +123,7 @@ typedef struct sim {
     vme_t vme;
     wdg_t wdg;
     axis_hw_t ax[MAC4_NAXES];
+    sim_sig_t sig[SIG_COUNT];      /* the wires between the devices (periph_connect) */
     /* ---- added: the plant models behind the axis boards (harness/plant.c) ---- */
     plant_t plant;
     /* ---- end of plant additions ---- */
@@ -169,7 +188,10 @@ uint32_t bus_read(sim_t *s, uint32_t addr, int size);           /* size 1, 2 or 
 void bus_write(sim_t *s, uint32_t addr, uint32_t v, int size);
 void sim_fault(sim_t *s, const char *fmt, ...);
 
-/* periph.c */
+/* periph.c: the device table */
+void periph_connect(sim_t *s);     /* wire the signals (sim_init) */
+void sig_connect(sim_t *s, int sig, sim_sig_hook_t hook);
+void sig_raise(sim_t *s, int sig, uint64_t value);
 void periph_reset(sim_t *s);
 cyc_t periph_next_event(sim_t *s);
 void periph_events(sim_t *s, cyc_t now);

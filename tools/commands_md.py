@@ -1,7 +1,12 @@
 #!/usr/bin/env python3
 """commands_md.py - docs/commands.md from build/commands.json (which
 tools/gen_commands.c writes from firmware/commands.def).  Never edit
-docs/commands.md by hand: change commands.def and run `make docs`."""
+docs/commands.md by hand: change commands.def and run `make docs`.
+
+    tools/commands_md.py [--check] build/commands.json docs/commands.md
+
+With --check, writes nothing and fails (exit 1) when the page is not what
+the table gives (`make docs-check`, part of `make test`)."""
 import json
 import sys
 
@@ -24,7 +29,14 @@ def rng(r):
 
 
 def main():
-    src, dst = sys.argv[1], sys.argv[2]
+    args = sys.argv[1:]
+    check = args[:1] == ["--check"]
+    if check:
+        args = args[1:]
+    if len(args) != 2:
+        print("usage: commands_md.py [--check] COMMANDS.json PAGE.md", file=sys.stderr)
+        return 2
+    src, dst = args
     t = json.load(open(src))
     out = ["# MAC4 command dictionary", "",
            "Generated from `firmware/commands.def` and `firmware/status.def` by `make docs`"
@@ -89,8 +101,20 @@ def main():
     out += ["", "## Mode codes", "", "| code | mode |", "|---|---|"]
     for m in t["status"]["modes"]:
         out.append("| %d | %s |" % (m["code"], m["name"]))
-    open(dst, "w").write("\n".join(out) + "\n")
+    text = "\n".join(out) + "\n"
+    if check:
+        try:
+            old = open(dst).read()
+        except OSError:
+            old = None
+        if old != text:
+            print("commands_md: %s is not what %s gives: change firmware/commands.def or "
+                  "firmware/status.def, not the page, and run `make docs`" % (dst, src), file=sys.stderr)
+            return 1
+        return 0
+    open(dst, "w").write(text)
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

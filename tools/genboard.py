@@ -171,7 +171,7 @@ def c_comment(text, indent=""):
 
 def bus_timing(windows, waits):
     """MAC4_BUS_TIMING(X): a row X(name, base, size, read, write) per window,
-    its wait states per bus cycle (harness/buswait.c, tools/mac4map.py)."""
+    its wait states per bus cycle (harness/buswait.c; BUS_TIMING in board.py)."""
     out = ["#define MAC4_BUS_TIMING(X) \\"]
     for i, (name, bb, bs, _, _, _, _) in enumerate(windows):
         rd, wr = waits[name]
@@ -219,7 +219,7 @@ def bus_map(windows, src):
     return "\n".join(out) + "\n"
 
 
-def python_map(defs, windows, vals, src):
+def python_map(defs, windows, vals, src, cards=None):
     out = ['"""board.py - GENERATED from %s by tools/genboard.py: do not edit.' % src,
            "",
            "The card's local memory map and device registers (our design, docs/board.md),",
@@ -241,6 +241,16 @@ def python_map(defs, windows, vals, src):
     for name, _, _, base, size, word_io, _ in windows:
         out.append("    (%r, 0x%06X, 0x%X, %s)," % (name, base, size, bool(word_io)))
     out.append("]")
+    if cards:
+        # the cards by name, from [cards]: the card type (VER), the controller
+        # period (firmware/card.c TICK_US) in us and cycles, the profile generator's
+        cyc, div = vals.ns["MAC4_CYCLES_PER_US"], vals.ns["PROFILE_DIVIDER"]
+        out += ["", "# the cards by name ([cards]): type (VER bits 24-31), controller period in us",
+                "# and in cycles, the profile generator's period (PROFILE_DIVIDER ticks) in cycles"]
+        for var, f in (("CARD_TYPE", lambda t, p: t), ("PERIOD_US", lambda t, p: p),
+                       ("PERIOD_CYCLES", lambda t, p: p * cyc),
+                       ("PROFILE_PERIOD_CYCLES", lambda t, p: p * cyc * div)):
+            out.append("%s = {%s}" % (var, ", ".join("%r: %d" % (n, f(*c)) for n, c in cards.items())))
     out += ["", "# (name, read, write) wait states per bus cycle of every window (MAC4_BUS_TIMING)",
             "BUS_TIMING = ["]
     for name, _, _, _, _, _, _ in windows:
@@ -255,8 +265,16 @@ def generate(path):
         raise BoardError("%s: no [board] with a header text" % path)
     src = os.path.relpath(os.path.abspath(path), ROOT)
     defs, windows, vals = entries(board)
+    cards = {}
+    for name, c in board.get("cards", {}).items():
+        if not isinstance(c, dict) or set(c) != {"type", "period_us"}:
+            raise BoardError("cards.%s: a card is {type = NAME, period_us = NAME}" % name)
+        try:
+            cards[name] = tuple(int(eval(py_expr(c[k]), dict(vals.ns))) for k in ("type", "period_us"))
+        except Exception as e:                             # noqa: BLE001 - reported as one line
+            raise BoardError("cards.%s does not evaluate (%s)" % (name, e)) from None
     return {OUTPUTS["header"]: header(board, defs, src, windows, vals.waits), OUTPUTS["bus"]: bus_map(windows, src),
-            OUTPUTS["python"]: python_map(defs, windows, vals, src)}
+            OUTPUTS["python"]: python_map(defs, windows, vals, src, cards)}
 
 
 def main(argv=None):

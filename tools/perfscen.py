@@ -14,16 +14,20 @@ the axes really moved.
 import os
 import re
 import subprocess
+import sys
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+sys.path.insert(0, os.path.join(ROOT, "host"))
+from mac4card import board  # noqa: E402  (generated from board/mac4.toml)
+
 BUILD = os.path.join(ROOT, "build")
 SIM = os.path.join(BUILD, "mac4sim")
 AXES = range(4)
 PROFILE_PROBE = "card_profile_tick"
 SSI_AT = 1000000              # SSI encoders start here: no move crosses their wrap at 0
-CPU_HZ = 16000000
-PERIOD = {"inc": 40000, "ssi": 40000, "stp": 128000}      # controller tick, cycles
-PROFILE_PERIOD = {"inc": 160000, "ssi": 160000, "stp": 512000}
+CPU_HZ = board.MAC4_CPU_HZ
+PERIOD = board.PERIOD_CYCLES                    # controller tick, cycles
+PROFILE_PERIOD = board.PROFILE_PERIOD_CYCLES
 
 # Deadlines: missing one breaks the card (tests/timing/test_deadlines.py).
 # The controller tick, alone and delayed by the longest masked section, within
@@ -87,7 +91,7 @@ def move_lines(card, tg, extra=()):
 
 
 def positions_lines():
-    return ["peek32 0x%04X" % (0x3000 + 0x400 * a + 0x08) for a in AXES]
+    return ["peek32 0x%04X" % (board.DP_AXIS_DATA(a) + board.DPA_POS) for a in AXES]
 
 
 def window_lines(ms, host_load, probes=(PROFILE_PROBE,), lead_ms=0):
@@ -279,13 +283,13 @@ def braking(card, ms=300):
     four ticks) until the profile generator takes over at rest: the tick's
     braking path on four axes."""
     lines = moving_start(card) + ["run %d" % MOVING_LEAD_MS[card]] + positions_lines()
-    lines += ["perf track on", "perf quiet on", "perf reset", "run 7", "poke16 0x4600 0x00AA",
+    lines += ["perf track on", "perf quiet on", "perf reset", "run 7", "poke16 0x%04X 0x00AA" % board.DP_STOP_BITS,
               "run %d" % ms, "perf quiet off", "perf report"] + positions_lines()
     return "\n".join(lines) + "\n"
 
 
 SERIAL_TELEGRAMS = 44       # 11 bytes each at 4800 baud: about 1 s of a busy serial line
-CHAR_CYCLES = CPU_HZ * 10 // 4800    # one character time (8N1) in cycles: 33 333
+CHAR_CYCLES = CPU_HZ * 10 // board.UART_BAUD    # one character time (8N1) in cycles: 33 333
 
 
 def serial(card, ms=1000):

@@ -1,4 +1,5 @@
-/* Host build: every access goes to the emulator's bus (harness/bus.c). */
+/* Host build: every access goes to the emulator's bus (harness/bus.c);
+ * implemented by the harness, harness/hal_native.c. */
 #ifndef HAL_NATIVE_H
 #define HAL_NATIVE_H
 #include <stdint.h>

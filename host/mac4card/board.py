@@ -210,6 +210,13 @@ MEMORY = [
     ('axis-irq', 0xF01800, 0x2, True),
 ]
 
+# the cards by name ([cards]): type (VER bits 24-31), controller period in us
+# and in cycles, the profile generator's period (PROFILE_DIVIDER ticks) in cycles
+CARD_TYPE = {'inc': 0, 'ssi': 1, 'stp': 2}
+PERIOD_US = {'inc': 2500, 'ssi': 2500, 'stp': 8000}
+PERIOD_CYCLES = {'inc': 40000, 'ssi': 40000, 'stp': 128000}
+PROFILE_PERIOD_CYCLES = {'inc': 160000, 'ssi': 160000, 'stp': 512000}
+
 # (name, read, write) wait states per bus cycle of every window (MAC4_BUS_TIMING)
 BUS_TIMING = [
     ('dpram', 1, 1),

@@ -3,7 +3,7 @@
 #                                mac4sim builds it, one instruction per test
 # SST defaults to ../shared/m68000-tests beside the clone (../../shared for a
 # git worktree one folder deeper) when it exists, else to the subset committed
-# in tests/conformance/vectors (tools/sst_subset.py).  `make test` runs it.
+# in tests/conformance/vectors (tools/sst_subset.py).  `make test` runs it (TEST_LANES).
 SST_SHARED := $(firstword $(wildcard ../shared/m68000-tests ../../shared/m68000-tests))
 SST ?= $(if $(SST_SHARED),$(SST_SHARED),tests/conformance/vectors)
 .PHONY: conformance
@@ -13,4 +13,3 @@ $(B)/sst: tests/conformance/sst.c tests/conformance/sstfile.c tests/conformance/
 conformance: $(B)/sst
 	$(B)/sst $(SST)
 	$(PYTHON) -m pytest -q tests/conformance
-test: conformance

@@ -23,8 +23,12 @@ board on logical time (`perf axis-sync on`), and the two runs must agree:
 import os
 import re
 import subprocess
+import sys
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+sys.path.insert(0, os.path.join(ROOT, "host"))
+from mac4card import board  # noqa: E402  (generated from board/mac4.toml)
+
 BUILD = os.path.join(ROOT, "build")
 M68K = os.path.join(BUILD, "mac4sim")
 
@@ -53,7 +57,7 @@ def script(steps, setup=()):
         elif st[0] == "serial":
             out.append("tx-msg %d %s %s" % (st[1], st[2], st[3] if len(st) > 3 else ""))
         elif st[0] == "stop":
-            out.append("poke16 0x4600 %d" % st[1])
+            out.append("poke16 0x%X %d" % (board.DP_STOP_BITS, st[1]))
         elif st[0] == "script":        # a host-script line: the plant, a fault, /STOP
             out.append(st[1])
         else:

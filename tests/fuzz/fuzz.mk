@@ -1,6 +1,7 @@
 # Fuzz targets of the native firmware (docs/hardening.md).  Included by Makefile.
 #
 #   make fuzz [FUZZ_SECONDS=60] [FUZZ_TARGETS="queue serial cmd"] [FUZZ_CARDS="inc ssi stp"]
+#        [FUZZ_EMU_TARGETS="script image card68k"] [FUZZ_HOST_TARGETS="batch telegram"]
 #        libFuzzer (clang), each target and card FUZZ_SECONDS seconds, starting from
 #        tests/fuzz/corpus/TARGET; new inputs go to build/fuzz/work/TARGET-CARD,
 #        crashes to build/fuzz/crash-TARGET-CARD-*, a summary to build/fuzz/summary.txt
@@ -49,7 +50,7 @@ $(B)/fuzz/$(1)-$(2)/rt_%.o: hal/target/%.c $(FZ_DEPS)
 $(B)/fuzz/$(1)-$(2)/replay.o: tests/fuzz/replay.c
 	@mkdir -p $$(@D)
 	@echo "  $(1)-FZ  $$@"; $$(FZ_CC_$(1)) $$(FZ_CFLAGS_$(1)) -c $$< -o $$@
-$(B)/fuzz/$(1)-$(2)/fuzz_hal.o: tests/fuzz/fuzz_hal.c hal/native/hal_native.c $(FZ_DEPS)
+$(B)/fuzz/$(1)-$(2)/fuzz_hal.o: tests/fuzz/fuzz_hal.c harness/hal_native.c $(FZ_DEPS)
 	@mkdir -p $$(@D)
 	@echo "  $(1)-FZ  $$@"; $$(FZ_CC_$(1)) $$(FZ_CFLAGS_$(1)) -DMAC4_CARD=$(card_$(2)) -c $$< -o $$@
 endef
@@ -75,11 +76,54 @@ $(foreach t,$(FZ_ALL_TARGETS),$(foreach c,$(CARDS),$(eval $(call FZ_BIN_RULES,$(
 
 FZ_REPLAY_BINS := $(foreach t,$(FZ_ALL_TARGETS),$(foreach c,$(CARDS),$(B)/fuzz/replay-$(t)-$(c)))
 
+# ---- the targets on the emulator: the host-script reader (fuzz_script.c),
+# the EPROM image loader (fuzz_image.c), the firmware as the 68000 image under
+# a misbehaving host (fuzz_card68k.c).  The harness as mac4sim links it, every
+# file it opens through fuzz_fopen.c; one binary per target, the card picked
+# by the input's first byte.
+FUZZ_EMU_TARGETS ?= script image card68k
+# mac4host's batch parser and telegram decoder (fuzz_host.py, Python)
+FUZZ_HOST_TARGETS ?= batch telegram
+FZ_EMU_ALL := script image card68k
+FZ_EMU_HSRCS := $(filter-out harness/mac4sim.c,$(HARNESS_SRCS))
+FZ_EMU_FLAGS := -Iharness -Ihal -Ifirmware -I$(MUS) -DMUSASHI_CNF='"musashi_cnf.h"' \
+                -DFZ_EPROM_DIR='"$(abspath $(B)/eprom)"'
+FZ_EMU_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+FZ_EMU_CFLAGS_gcc   := -std=gnu11 -g -O2 -Wall -Wextra -Werror $(FZ_EMU_SAN) $(FZ_EMU_FLAGS)
+FZ_EMU_CFLAGS_clang := -std=gnu11 -g -O2 -Wall -Wextra $(FZ_EMU_SAN) $(FZ_EMU_FLAGS) -fsanitize=fuzzer-no-link
+FZ_EMU_DEPS := tests/fuzz/fuzz_emu.h tests/fuzz/fuzz_fopen.h tests/fuzz/fuzz.mk $(HARNESS_HDRS) $(MUS)/.stamp
+FZ_EMU_OBJS = $(patsubst harness/%.c,$(B)/fuzz/emu-$(1)/h_%.o,$(FZ_EMU_HSRCS)) $(B)/fuzz/emu-$(1)/fopen.o
+
+define FZ_EMU_OBJ_RULES
+$(B)/fuzz/emu-$(1)/h_%.o: harness/%.c $(FZ_EMU_DEPS)
+	@mkdir -p $$(@D)
+	@echo "  $(1)-FZ  $$@"; $$(FZ_CC_$(1)) $$(FZ_EMU_CFLAGS_$(1)) -include tests/fuzz/fuzz_fopen.h -c $$< -o $$@
+$(B)/fuzz/emu-$(1)/fopen.o: tests/fuzz/fuzz_fopen.c $(FZ_EMU_DEPS)
+	@mkdir -p $$(@D)
+	@echo "  $(1)-FZ  $$@"; $$(FZ_CC_$(1)) $$(FZ_EMU_CFLAGS_$(1)) -c $$< -o $$@
+$(B)/fuzz/emu-$(1)/fuzz_%.o: tests/fuzz/fuzz_%.c $(FZ_EMU_DEPS)
+	@mkdir -p $$(@D)
+	@echo "  $(1)-FZ  $$@"; $$(FZ_CC_$(1)) $$(FZ_EMU_CFLAGS_$(1)) -c $$< -o $$@
+endef
+$(foreach tc,gcc clang,$(eval $(call FZ_EMU_OBJ_RULES,$(tc))))
+
+define FZ_EMU_BIN_RULES
+$(B)/fuzz/replay-$(1): $(call FZ_EMU_OBJS,gcc) $(B)/fuzz/emu-gcc/fuzz_$(1).o $(B)/fuzz/gcc-inc/replay.o $(MUSOBJ)
+	@echo "  LD-ASAN $$@"; $$(HOSTCC) $(FZ_EMU_SAN) $$^ -lm -o $$@
+$(B)/fuzz/fuzz-$(1): $(call FZ_EMU_OBJS,clang) $(B)/fuzz/emu-clang/fuzz_$(1).o $(MUSOBJ)
+	@echo "  LD-FUZZ $$@"; $$(FUZZ_CLANG) -fsanitize=fuzzer,address,undefined $$^ -lm -o $$@
+endef
+$(foreach t,$(FZ_EMU_ALL),$(eval $(call FZ_EMU_BIN_RULES,$(t))))
+FZ_EMU_REPLAY_BINS := $(foreach t,$(FZ_EMU_ALL),$(B)/fuzz/replay-$(t))
+
 .PHONY: fuzz fuzz-replay fuzz-merge fuzz-cov fuzz-tools fuzz-known
-fuzz-replay: $(FZ_REPLAY_BINS)
+fuzz-replay: $(FZ_REPLAY_BINS) $(FZ_EMU_REPLAY_BINS) images
 	@set -e; for t in $(FZ_ALL_TARGETS); do for c in $(CARDS); do \
 		dirs="tests/fuzz/corpus/$$t"; [ -d tests/fuzz/regress/$$t ] && dirs="$$dirs tests/fuzz/regress/$$t"; \
 		$(B)/fuzz/replay-$$t-$$c $$dirs; done; done
+	@set -e; for t in $(FZ_EMU_ALL); do $(B)/fuzz/replay-$$t tests/fuzz/corpus/$$t 2>/dev/null || \
+		{ FUZZ_REPLAY_VERBOSE=1 $(B)/fuzz/replay-$$t tests/fuzz/corpus/$$t; exit 1; }; done
+	@$(PYTHON) tests/fuzz/fuzz_host.py --replay
 
 # The reproducers of known, reported bugs (tests/fuzz/known/NAME.TARGET.CARD),
 # strict: each fails while its bug is open.  Informational, not part of make test.
@@ -93,12 +137,18 @@ fuzz-known: $(FZ_REPLAY_BINS)
 fuzz-tools: deps
 	@command -v $(FUZZ_CLANG) >/dev/null || { echo "make fuzz needs clang: tools/bootstrap.sh installs it" >&2; exit 1; }
 
-fuzz: fuzz-tools $(foreach t,$(FUZZ_TARGETS),$(foreach c,$(FUZZ_CARDS),$(B)/fuzz/fuzz-$(t)-$(c)))
+fuzz: fuzz-tools $(foreach t,$(FUZZ_TARGETS),$(foreach c,$(FUZZ_CARDS),$(B)/fuzz/fuzz-$(t)-$(c))) \
+      $(foreach t,$(FUZZ_EMU_TARGETS),$(B)/fuzz/fuzz-$(t)) images
 	@mkdir -p $(B)/fuzz; : > $(B)/fuzz/summary.txt
 	@set -e; for t in $(FUZZ_TARGETS); do for c in $(FUZZ_CARDS); do \
 		tests/fuzz/run.sh $(B) $$t $$c $(FUZZ_SECONDS) $(FUZZ_JOBS) | tee -a $(B)/fuzz/summary.txt; \
 	done; done
+	@set -e; for t in $(FUZZ_EMU_TARGETS); do \
+		tests/fuzz/run.sh $(B) $$t all $(FUZZ_SECONDS) $(FUZZ_JOBS) | tee -a $(B)/fuzz/summary.txt; done
+	@set -e; for t in $(FUZZ_HOST_TARGETS); do \
+		$(PYTHON) tests/fuzz/fuzz_host.py --target $$t --seconds $(FUZZ_SECONDS) | tee -a $(B)/fuzz/summary.txt; done
 	@echo "summary in $(B)/fuzz/summary.txt"
+	@! grep -E "crashes [1-9]" $(B)/fuzz/summary.txt || { echo "make fuzz: findings above (build/fuzz/crash-*)"; exit 1; }
 
 # Only inputs that reach new edges are kept (-use_counters=0: not new hit
 # counts), so the corpus in the repository stays small and its replay fast.

@@ -431,7 +431,18 @@ static inline uint32_t fz_param(fz_in_t *in)
     }
 }
 
-/* At the end: the host repairs what it broke, and VER is answered. */
+/* At the end: the host repairs what it broke, and VER is answered.
+ * What the firmware promises (firmware/cmd.c, 5.15): commands held behind an
+ * off-fly move wait there, at most CMD_HOLD_MAX of them; once the moves have
+ * ended they are released one per main-loop pass, oldest first, each answered
+ * once (with 163 when the stop's error waits to be reported), and a read such
+ * as VER is never held.  The repair empties both queues, and only a command
+ * taken is answered (a response that finds the queue full is counted in
+ * DPC_RSP_LOST, not kept), so one VER asked once is answered after at most
+ * CMD_HOLD_MAX other answers, within FZ_STOP_PASSES passes for the moves to
+ * stop plus one pass per held command.  Only a watchdog reset, which clears
+ * the queues, is a reason to ask again. */
+#define FZ_STOP_PASSES 2000         /* 0.5 s at 250 us: every stop ramp is shorter */
 static inline void fz_final_ver_vme(cyc_t pass_cyc)
 {
     estop_set(&S, 0);
@@ -441,12 +452,12 @@ static inline void fz_final_ver_vme(cyc_t pass_cyc)
      * host that wants its card back, stop every axis with the stop bits
      * (3.5.1) first. */
     dp_wr16(&S, DP_STOP_BITS, 0x00AA);
-    for (int attempt = 0; attempt < 6; attempt++) {
+    for (int asked = 0; asked < 4; asked++) {
         fz_hdr_repair(DP_CMD_QUEUE);
         fz_hdr_repair(DP_RSP_QUEUE);
         FZ_CHECK(host_send(&S, 0, 7, 0, 0) == 1, "VER could not be queued after repair");
-        unsigned resets0 = fz_resets;
-        for (int i = 0; i < 2000 && fz_resets == resets0; i++) {
+        unsigned resets0 = fz_resets, others = 0;
+        for (int passes = 0; passes <= FZ_STOP_PASSES + CMD_HOLD_MAX + 2 && fz_resets == resets0;) {
             uint32_t f = fz_rd32(DP_RSP_QUEUE + QH_FRONT), r = fz_rd32(DP_RSP_QUEUE + QH_REAR);
             if (f != r) {
                 fz_elem_t rsp = fz_elem(DP_RSP_QUEUE, r);
@@ -457,12 +468,16 @@ static inline void fz_final_ver_vme(cyc_t pass_cyc)
                     FZ_CHECK(rsp.param == FW_VER_WORD, "VER answered $%08X", (unsigned)rsp.param);
                     return;
                 }
-                if (!fz_is_error(rsp.code))
-                    continue;      /* a command held off-fly before, answered now */
-                break;             /* an error waited to be reported: ask again */
+                others++;       /* a held command answered now */
+                FZ_CHECK(others <= CMD_HOLD_MAX, "%u answers before VER's, more than %u held commands",
+                         others, CMD_HOLD_MAX);
+                continue;       /* the next answer may be in the queue already */
             }
             fz_pass(pass_cyc);
+            passes++;
         }
+        if (fz_resets == resets0)
+            break;              /* no reset: the card did not answer */
     }
     FZ_FAIL("the card no longer answers VER (queues: command front %u rear %u, response front %u rear %u)",
             (unsigned)fz_rd32(DP_CMD_QUEUE + QH_FRONT), (unsigned)fz_rd32(DP_CMD_QUEUE + QH_REAR),

@@ -1,6 +1,6 @@
 /*
  * fuzz_hal.c - hal/native for the fuzz targets, with the checks a real
- * 68000 would make for us.  hal/native/hal_native.c is compiled unchanged
+ * 68000 would make for us.  harness/hal_native.c is compiled unchanged
  * here, with its two calls into the emulator's bus renamed to the checking
  * versions below:
  *   - a word or long access at an odd address is an address error on the
@@ -82,4 +82,4 @@ static void fz_bus_write(sim_t *s, uint32_t a, uint32_t v, int size)
 
 #define bus_read fz_bus_read
 #define bus_write fz_bus_write
-#include "../../hal/native/hal_native.c"
+#include "../../harness/hal_native.c"

@@ -8,6 +8,7 @@ below use only its stable forms (raw codes F8 hi lo, raw parameters
 80 + 4 bytes), so a seed means the same whatever commands.def holds.
 Inputs that libFuzzer found and `make fuzz-merge` kept sit beside these
 under their hash names."""
+import json
 import os
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -242,6 +243,111 @@ FIXED = {
 }
 
 
+# ---- the targets on the emulator (fuzz_script.c, fuzz_image.c, fuzz_card68k.c):
+# byte 0 the card (% 3), then the target's own format
+
+def _scenario(name):
+    with open(os.path.join(HERE, "..", "scenarios", name), "rb") as f:
+        return f.read()
+
+
+SCRIPT = {
+    "boot-%s" % c: bytes([i]) + b"wait-display 5 3000\nqueues\nbanner\nstatus\n"
+    for i, c in enumerate(("inc", "ssi", "stp"))
+}
+SCRIPT.update({
+    "vocabulary": b"\0send 0 WAP 0100\nsend 0 MP\nrun 2.5\npeek32 0x4700\npoke16 $5000 0x1234\n"
+                  b"peek16 0x5000\npeek8 0xFFFF\nhost read off\nestop on\nestop off\nfc 3\n"
+                  b"jumper j11 out\ntx 10 02 00 00 46 00 00 00 10 10 56\ntx-msg 0 WAP 16\n"
+                  b"serial-stats\nleds\noutputs\nirqstats\nbus-stats\nprofile report 3\n"
+                  b"wait-display 7 1\nrun-ticks 1\nplant 0 gear 2.5\nplant 0 encoder lines 500\n"
+                  b"switch 0 lp 1000 high\nfault 0 drive on\ncounter 0 $123\naxreg 0 in\n"
+                  b"vme-encoder $80C000 0 bits 14 res 10000\nvme-boards\nstepper 0 steps 200\n"
+                  b"trace 0 t.csv\nvcd v.vcd\ngdb 0\necho done\nquit\n",
+    "include": b"\0include a.mac4\ninclude loop.mac4\ninclude deep.mac4\ninclude /dev/zero\n"
+               b"include self.mac4\ninclude nothing.mac4\ninclude .\n",
+    "bad-numbers": b"\0run nan\nrun 0x10\nwait-display 5 99999999999999999999\nrun-ticks 0\n"
+                   b"peek32 0xFFFE\nsend 0 WAP 0o17\nestop maybe\nhost read maybe\n",
+    "long-line": b"\0echo " + b"a" * 1100 + b"\nrun 1\n",
+    "nul": b"\0echo a\0b\nrun 1\n",
+    "scenario-inc": b"\0" + _scenario("inc-7.2-plant.mac4"),
+    "scenario-ssi": b"\1" + _scenario("ssi-7.2-plant.mac4"),
+})
+
+IMAGE = {
+    "inc": b"\6", "ssi": b"\4", "stp": b"\5",                        # the build's images (mode & 4)
+    "inc-one-byte": b"\6\x80\x00\x01",                                # a change the checksum sees
+    "ssi-crc-word": b"\4\xff\xfc\xff\xff\xfd\xff",                    # the CRC word itself
+    "stp-vectors": b"\5\x00\x04\xff\x00\x05\xff",                    # the reset PC
+    "empty": b"\0",
+    "tiny": b"\0\x4e\x71",
+    "too-large": b"\x08\x4e\x71",
+    "blank": b"\x08",
+}
+
+
+def _u16(v):
+    return bytes([(v >> 8) & 255, v & 255])
+
+
+def _u32(v):
+    return bytes([(v >> 24) & 255, (v >> 16) & 255, (v >> 8) & 255, v & 255])
+
+
+def k_cmd(a, c, p=0):              # opcode 3, code F8 hi lo
+    return bytes([3, a, 0xF8]) + _u16(c) + _u32(p)
+
+
+def k_tel(a, c, p=0):              # opcode 5
+    return bytes([5, a, 0xF8]) + _u16(c) + _u32(p)
+
+
+def k_poke32(off, v):              # off from $3000
+    return bytes([2]) + _u16(off - 0x3000) + _u32(v)
+
+
+CARD68K = {
+    "manual-%s" % c: bytes([i]) + b"".join(k_cmd(a, code, p) for a, code, p in MANUAL_CMDS)
+    + bytes([6, 200])
+    for i, c in enumerate(("inc", "ssi", "stp"))
+}
+CARD68K.update({
+    "serial-manual": b"\0" + b"".join(bytes([4, len(hexb(t)) - 1]) + hexb(t) for t in MANUAL_TELEGRAMS)
+                     + bytes([6, 100]),
+    "telegrams": b"\1" + b"".join(k_tel(0, code, p) for _, code, p in MANUAL_CMDS) + bytes([6, 100]),
+    "wreck-headers": b"\0" + k_poke32(0x4700 + 4, 0xFFFFFFFF) + k_cmd(0, 7) + k_poke32(0x4800 + 8, 99)
+                     + bytes([6, 40]),
+    "estop-stopbits": b"\2" + k_cmd(0, 3) + bytes([7, 0, 1, 6, 10, 7, 1, 0, 0xAA, 7, 0, 0, 7, 3])
+                      + k_cmd(1, 7),
+    "counters": b"\0" + k_poke32(0x4024, 0xFFFFFFFF) + k_poke32(0x4040, 0x12345678) + bytes([6, 20]),
+})
+
+
+# ---- the host side in Python (fuzz_host.py): byte 0 of a batch input says
+# what the rest is (bit 0: a dictionary; bits 1-2: the card), telegrams are
+# the bytes on the line
+
+BATCH = {
+    "manual": b"\0# the manual's sequence (7.3.1)\n0 WAP 16\n0 MP 0\nsend 0 E\nwait 5\n0 RCP\n0 1\n",
+    "numbers": b"\2" + b"0 WAP 0100\n0 WAP $64\n0 WAP 0x64\n1 WAP -5\n3 70 16\n255 VER\nrun 2.5\n",
+    "bad": b"\4" + b"0\n0 NOSUCH\nwait\n0 WAP 1 2 3\n9999 VER\n",
+    "latin1": b"\0" + "0 VER # M\u00fcller\n".encode("latin-1"),
+    "dict-small": b"\1" + json.dumps({"cards": {"inc": 0}, "status": {"user": [{"bit": 0, "name": "x"}]},
+                                        "errors": [], "aliases": {"WED": "WAA"},
+                                        "commands": [{"mnemonic": "VER", "code": 7, "kind": "read",
+                                                      "cards": ["inc"]}]}).encode(),
+    "dict-aliases-list": b"\1" + b'{"cards": {}, "status": {}, "errors": [], "aliases": [1], "commands": []}',
+    "dict-deep": b"\1" + b"[" * 5000 + b"]" * 5000,
+}
+
+TELEGRAM = {"manual-%d" % i: hexb(t) for i, t in enumerate(MANUAL_TELEGRAMS + MANUAL_RESPONSES)}
+TELEGRAM.update({
+    "nak-between": hexb("15 10 02 00 00 46 00 00 00 10 10 56 15"),
+    "dle-checksum-single": hexb("10 02 00 00 46 00 00 00 10 10 10 10 02"),
+    "garbage": hexb("00 FF 10 10 10 03 10 02 00"),
+})
+
+
 def write_known():
     d = os.path.join(HERE, "known")
     os.makedirs(d, exist_ok=True)
@@ -275,4 +381,9 @@ if __name__ == "__main__":
     write("queue", with_fixed("queue", QUEUE))
     write("serial", with_fixed("serial", SERIAL))
     write("cmd", with_fixed("cmd", CMD))
+    write("script", SCRIPT)
+    write("image", IMAGE)
+    write("card68k", CARD68K)
+    write("batch", BATCH)
+    write("telegram", TELEGRAM)
     write_known()

@@ -4,12 +4,17 @@
 # earlier runs; prints one summary line: executions, coverage, corpus, crashes.
 set -uo pipefail
 build=$1 t=$2 c=$3 secs=$4 jobs=${5:-1}
-bin=$build/fuzz/fuzz-$t-$c
-work=$build/fuzz/work/$t-$c
-log=$build/fuzz/log-$t-$c.txt
+# CARD "all": a target on the emulator (fuzz-TARGET, the card in the input);
+# what the emulator prints (script errors, events) is not kept
+name=$t-$c
+[ "$c" = all ] && name=$t
+bin=$build/fuzz/fuzz-$name
+work=$build/fuzz/work/$name
+log=$build/fuzz/log-$name.txt
 mkdir -p "$work"
 args=(-max_total_time="$secs" -max_len=4096 -timeout=10 -rss_limit_mb=4096 -print_final_stats=1
-      -artifact_prefix="$build/fuzz/crash-$t-$c-")
+      -artifact_prefix="$build/fuzz/crash-$name-")
+[ "$c" = all ] && args+=(-close_fd_mask=3)
 if [ "$jobs" -gt 1 ]; then
     args+=(-fork="$jobs" -ignore_crashes=1)
 fi
@@ -20,7 +25,7 @@ last=$(grep -E '^#[0-9]+' "$log" | tail -1)
 cov=$(sed -n 's/.* cov: \([0-9]*\).*/\1/p' <<<"$last")
 ft=$(sed -n 's/.* ft: \([0-9]*\).*/\1/p' <<<"$last")
 corp=$(sed -n 's/.* corp: \([0-9]*\/[0-9a-zA-Z]*\).*/\1/p' <<<"$last")
-crashes=$(ls "$build/fuzz/" | grep -c "^crash-$t-$c-" || true)
+crashes=$(ls "$build/fuzz/" | grep -c "^crash-$name-" || true)
 printf '%-7s %-4s %5ss  execs %-10s cov %-6s ft %-7s corpus %-12s crashes %s%s\n' \
     "$t" "$c" "$secs" "${execs:-?}" "${cov:-?}" "${ft:-?}" "${corp:-?}" "$crashes" \
     "$([ $rc -ne 0 ] && echo "  (exit $rc, see $log)")"

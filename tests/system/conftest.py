@@ -8,7 +8,7 @@ import pytest
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 BUILD = os.path.join(ROOT, "build")
-SIM = os.path.join(BUILD, "mac4sim")
+SIM = os.environ.get("MAC4SIM") or os.path.join(BUILD, "mac4sim")   # make sanitize: build/san/mac4sim
 CARDS = ("inc", "ssi", "stp")
 
 

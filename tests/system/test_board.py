@@ -55,6 +55,23 @@ def test_c_and_python_agree_on_every_value(tmp_path):
     assert board.DP_AXIS_DATA(2) == 0x3800 and board.AX_REG(1, board.AX_CTRL) == 0xF0110A
 
 
+def test_the_host_side_is_the_manuals_table_3_1():
+    """The tests take the DPRAM map from board.py; here it is held against the
+    manual once, by its printed numbers (table 3.1, 3.2, diagram 3.2, 7.4)."""
+    table_3_1 = {0: 0x3000, 1: 0x3400, 2: 0x3800, 3: 0x3C00}
+    for n, at in table_3_1.items():
+        assert board.DP_AXIS_DATA(n) == at
+        assert board.DP_EXT_FLAG(n) == at + 0x308 and board.DP_EXT_POS(n) == at + 0x30A
+    assert (board.DP_CARD_DATA, board.DP_STOP_BITS, board.DP_CMD_QUEUE, board.DP_RSP_QUEUE) == (
+        0x4000, 0x4600, 0x4700, 0x4800)
+    assert board.DP_HOST_END == 0xFFEE
+    assert (board.Q_HEADER_SIZE, board.Q_WIDTH, board.Q_NEL) == (0x18, 10, 10)
+    assert (board.QH_FRONT, board.QH_REAR) == (4, 8)             # write index, read index
+    assert board.PERIOD_US == {"inc": 2500, "ssi": 2500, "stp": 8000}
+    assert board.MAC4_CPU_HZ == 16000000 and board.UART_BAUD == 4800
+    assert board.CARD_TYPE == {"inc": 0, "ssi": 1, "stp": 2}     # VER, table 6.1
+
+
 def test_bus_table_is_the_memory_map():
     rows = [l for l in open(os.path.join(ROOT, "harness", "bus_map.h")) if l.startswith("{")]
     assert [re.search(r'"([^"]+)"', l).group(1) for l in rows] == [m[0] for m in board.MEMORY]
@@ -70,6 +87,8 @@ BROKEN = [
     ("beyond", "base = 0xE00000", "base = 0xFF8000", "beyond the 68000's 24 address lines"),
     ("syntax", "[board]", "[board", "mac4.toml"),
     ("value", 'value = "MAC4_U(0x4600)"', 'value = "MAC4_U(0x4600"', "does not evaluate"),
+    ("card", 'period_us = "SERVO_PERIOD_US_STP"', 'period_us = "SERVO_PERIOD_STP"', "cards.stp does not evaluate"),
+    ("card-key", 'stp = {type', 'stp = {typ', "a card is {type = NAME, period_us = NAME}"),
 ]
 
 

@@ -6,23 +6,25 @@ import shutil
 import pytest
 
 from conftest import BOOT, CARDS, image, sim
+from mac4 import CMDQ, RSPQ, TICK_MS, board
 
+# the header of both queues after the boot, as the manual gives it (7.3.2)
 SPEC_HEADER = {0x00: 0x18, 0x04: 0, 0x08: 0, 0x0C: 0, 0x10: 0xA, 0x14: 0xA}
 
 
 @pytest.mark.parametrize("card", CARDS)
 def test_boot_sequence_banner_and_queues(card):
-    peeks = "".join("peek32 0x%04X\n" % (q + off) for q in (0x4700, 0x4800) for off in SPEC_HEADER)
-    r = sim(BOOT + "run 50\nbanner\n" + peeks + "peek32 0x4004\npeek32 0x402C\n", card)
+    peeks = "".join("peek32 0x%04X\n" % (q + off) for q in (CMDQ, RSPQ) for off in SPEC_HEADER)
+    r = sim(BOOT + "run 50\nbanner\n" + peeks + "peek32 0x%X\npeek32 0x%X\n" % (board.DPC_BOOT_ERROR, board.DPC_VERSION), card)
     assert r.rc == 0, r.stderr
     assert r.faults() == []
     assert r.displays() == ["1", "2", "3", "5"]
     assert r.grep(r'^banner "MACCON \(C\)1993"$')
-    for q in (0x4700, 0x4800):
+    for q in (CMDQ, RSPQ):
         for off, want in SPEC_HEADER.items():
             assert r.peek(q + off) == want, hex(q + off)
-    assert r.peek(0x4004) == 0                        # no boot error
-    assert r.peek(0x402C) >> 24 == CARDS.index(card)  # VER: card type in bits 24-31
+    assert r.peek(board.DPC_BOOT_ERROR) == board.DPC_ERR_NONE
+    assert r.peek(board.DPC_VERSION) >> 24 == board.CARD_TYPE[card]  # VER: card type in bits 24-31
 
 
 @pytest.mark.parametrize("card", CARDS)
@@ -34,10 +36,11 @@ def test_outputs_in_reset_state(card):
         assert "en=0" in l and "dac=0" in l and "rate=0" in l and "dir=0" in l and "boost=0" in l
 
 
-@pytest.mark.parametrize("card,period_ms", [("inc", 2.5), ("ssi", 2.5), ("stp", 8.0)])
-def test_tick_runs_and_is_measured(card, period_ms):
-    r = sim(BOOT + "peek32 0x4028\nrun 1000\npeek32 0x4028\nirqstats\n", card)
-    ticks = [int(l.split()[2], 16) for l in r.grep(r"^peek32 0x4028 ")]
+@pytest.mark.parametrize("card", CARDS)
+def test_tick_runs_and_is_measured(card):
+    period_ms = TICK_MS[card]
+    r = sim(BOOT + "peek32 0x{0:X}\nrun 1000\npeek32 0x{0:X}\nirqstats\n".format(board.DPC_TICKS), card)
+    ticks = [int(l.split()[2], 16) for l in r.grep(r"^peek32 0x%X " % board.DPC_TICKS)]
     assert abs((ticks[1] - ticks[0]) - 1000 / period_ms) <= 1
     row = r.grep(r"^timer \(L6\)")[0].split()
     count, mn, mean, mx = (int(x) for x in row[2:6])
@@ -57,10 +60,12 @@ def _corrupt(tmp_path, card, offset):
 @pytest.mark.parametrize("offset", [0x0191, 0x8000, 0xFFF0, 0xFFFD])
 def test_one_byte_change_stops_at_checksum(tmp_path, offset):
     bad = _corrupt(tmp_path, "inc", offset)
-    r = sim("run 3000\npeek32 0x4004\npeek32 0x4008\npeek32 0x400C\nqueues\n", img=bad)
-    assert r.rc == 0, r.stderr                 # the card stops cleanly, no emulator fault
+    peeks = "".join("peek32 0x%X\n" % a for a in (board.DPC_BOOT_ERROR, board.DPC_CRC_EXPECTED, board.DPC_CRC_COMPUTED))
+    r = sim("run 3000\n" + peeks + "queues\n", img=bad)
+    # the card stops cleanly, no emulator fault: exit status 4, the card stopped
+    assert r.rc == 4 and not r.faults() and "stopped with the display at 3." in r.stderr, r.stderr
     assert r.displays() == ["1", "2", "3", "3."]
-    assert r.peek(0x4004) == 3                 # the host can read why
+    assert r.peek(board.DPC_BOOT_ERROR) == board.DPC_ERR_CHECKSUM   # the host can read why
     assert r.grep(r"^queue command .* nel=\$A") == []  # never became ready
 
 
@@ -86,8 +91,8 @@ def test_image_files_are_consistent():
         for ext in (".elf", ".map", ".size.txt"):
             assert os.path.getsize(base + ext) > 0
         # the reset vectors: SSP in the DPRAM monitor area, PC in the EPROM
-        assert int.from_bytes(img[0:4], "big") == 0x3000
-        assert 0x100000 <= int.from_bytes(img[4:8], "big") < 0x110000
+        assert int.from_bytes(img[0:4], "big") == board.DPRAM_BOOT_STACK_TOP
+        assert board.EPROM_BASE <= int.from_bytes(img[4:8], "big") < board.EPROM_BASE + board.EPROM_SIZE
 
 
 def test_no_reset_while_running():

@@ -27,6 +27,7 @@ TOOLS = {
     "gcc": "gcc",
     "objcopy": "binutils",
     "make": "make",
+    "git": "git",
     "python3": "python3",
     "pip": "python3-pip",
     "pkg-config": "pkg-config",

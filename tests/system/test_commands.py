@@ -3,7 +3,10 @@ DPRAM queues exactly as a VME host does."""
 import pytest
 
 from conftest import BOOT, CARDS, sim
-from mac4 import BY_MN, ENABLE, TABLE, code, obits, run, script, ubits
+from mac4 import (BY_MN, CMDQ, ENABLE, EXT_FLAG, EXT_POS, RSPQ, TABLE, board, code, ext_value, obits, q_entry,
+                  q_repair, qh, run, script, stop_bit, ubits)
+
+STOP = "0x%X" % board.DP_STOP_BITS
 
 ON_FLY_INIT = ubits("init", "on_fly")
 
@@ -30,13 +33,16 @@ def test_manual_example_7_3_1():
 
 def test_queue_entries_are_byte_exact():
     # ENABLE gives three responses (entries 0-2); WAP's is entry 3 at $4818 + 3*10
-    r = run(["host read off"] + ENABLE + [(0, "WAP", 16), "run 5", "peek16 0x4836", "peek16 0x4838",
-                                          "peek32 0x483A", "peek16 0x483E", "peek32 0x4804"])
-    assert r.peek(0x4836) >> 8 == 0                  # axis 0
-    assert r.peek(0x4838) == 70                      # code
-    assert r.peek(0x483A) == 0x02001101              # user status, big-endian
-    assert r.peek(0x483E) >> 8 == 0                  # source 0: VMEbus
-    assert r.peek(0x4804) == 4                       # front (write index): four responses
+    e = {f: q_entry(RSPQ, 3, f) for f in ("AXIS", "CODE", "PARAM", "SOURCE")}
+    assert e["AXIS"] == 0x4836
+    r = run(["host read off"] + ENABLE + [(0, "WAP", 16), "run 5", "peek16 0x%X" % e["AXIS"],
+                                          "peek16 0x%X" % e["CODE"], "peek32 0x%X" % e["PARAM"],
+                                          "peek16 0x%X" % e["SOURCE"], "peek32 0x%X" % qh(RSPQ, "FRONT")])
+    assert r.peek(e["AXIS"]) >> 8 == 0               # axis 0
+    assert r.peek(e["CODE"]) == 70                   # code
+    assert r.peek(e["PARAM"]) == 0x02001101          # user status, big-endian
+    assert r.peek(e["SOURCE"]) >> 8 == 0             # source 0: VMEbus
+    assert r.peek(qh(RSPQ, "FRONT")) == 4            # front (write index): four responses
 
 
 # ---- the whole table ----------------------------------------------------------
@@ -165,7 +171,7 @@ LOGICAL = [
     ((0, "MB"), 58), ((0, "E"), 3), ((0, "MD"), 51), ((0, "E"), 3),
     ((0, "MB"), 58), ((0, "E"), 163), ((0, "C"), 4),                       # brake from disable
     ((0, "UWSH", 2), 170), ((0, "UWET", 4), 178), ((0, "UWEC", 100), 163), ((0, "C"), 4),  # <ec>
-    ((0, "UWET", 3), 178), ((0, "UWEA", 0x330A), 180), ((0, "INIT"), 2),
+    ((0, "UWET", 3), 178), ((0, "UWEA", EXT_POS), 180), ((0, "INIT"), 2),
     ((0, "ME"), 52), ((0, "E"), 3), ((0, "MC"), 53), ((0, "E"), 163), ((0, "C"), 4),  # no index
     ((0, "MI"), 54), ((0, "E"), 163), ((0, "C"), 4),
     ((0, "WDL", 2), 96), ((0, "MF"), 56), ((0, "E"), 163), ((0, "C"), 4),  # circular: limit switch
@@ -204,31 +210,31 @@ def test_host_that_never_reads_loses_responses_and_counts_them():
     lines = [BOOT, "host read off", "send 0 WIRQ2 0xA2"]
     for i in range(14):
         lines += ["send 0 RBS", "run 1"]
-    lines += ["run 10", "peek32 0x4020", "queues"]
+    lines += ["run 10", "peek32 0x%X" % board.DPC_RSP_LOST, "queues"]
     r = sim("\n".join(lines) + "\n")
-    assert r.peek(0x4020) == 15 - 9                        # 15 responses, 9 fit
+    assert r.peek(board.DPC_RSP_LOST) == 15 - 9                        # 15 responses, 9 fit
     assert len(r.grep(r"^vme-irq 3 162$")) == 9            # interrupt 2 only for those written
     assert r.grep(r"^queue response .* front=9 rear=0 ")
 
 
-@pytest.mark.parametrize("field,value", [(0x4704, 10), (0x4704, 0xFFFFFFFF), (0x4708, 200),
-                                         (0x4714, 11), (0x4710, 0x100), (0x4700, 0x1000), (0x4714, 0)])
+@pytest.mark.parametrize("field,value", [("FRONT", 10), ("FRONT", 0xFFFFFFFF), ("REAR", 200),
+                                         ("NEL", 11), ("WIDTH", 0x100), ("BASE", 0x1000), ("NEL", 0)])
 def test_corrupt_command_queue_header(field, value):
-    lines = [BOOT, "send 0 RBS", "run 2", "poke32 0x%X 0x%X" % (field, value), "run 20",
-             "peek32 0x4024", "peek32 0x4004", "status"]
+    lines = [BOOT, "send 0 RBS", "run 2", "poke32 0x%X 0x%X" % (qh(CMDQ, field), value), "run 20",
+             "peek32 0x%X" % board.DPC_QUEUE_ERRORS, "peek32 0x%X" % board.DPC_BOOT_ERROR, "status"]
     # the host repairs the header (as the card created it) and goes on
-    lines += ["poke32 0x4700 0x18", "poke32 0x4710 0xA", "poke32 0x4714 0xA",
-              "poke32 0x4704 0", "poke32 0x4708 0", "run 2", "send 1 VER", "run 5"]
+    lines += q_repair(CMDQ) + ["run 2", "send 1 VER", "run 5"]
     r = sim("\n".join(lines) + "\n")
     assert r.rc == 0 and r.faults() == []
-    assert r.peek(0x4024) == 1                             # reported once, where the host can see it
+    assert r.peek(board.DPC_QUEUE_ERRORS) == 1                             # reported once, where the host can see it
     assert r.resps()[-1][:2] == (1, 7)                     # and the card still answers
 
 
 def test_corrupt_header_never_writes_outside_the_queue():
-    lines = [BOOT, "poke32 0x4708 0x7FFF", "poke32 0x4704 3"]
-    lines += ["peek32 0x%X" % a for a in range(0x4900, 0x4A00, 4)]
-    lines += ["run 20"] + ["peek32 0x%X" % a for a in range(0x4900, 0x4A00, 4)]
+    beyond = range(RSPQ + 0x100, RSPQ + 0x200, 4)              # past the response queue
+    lines = [BOOT, "poke32 0x%X 0x7FFF" % qh(CMDQ, "REAR"), "poke32 0x%X 3" % qh(CMDQ, "FRONT")]
+    lines += ["peek32 0x%X" % a for a in beyond]
+    lines += ["run 20"] + ["peek32 0x%X" % a for a in beyond]
     r = sim("\n".join(lines) + "\n")
     vals = [l for l in r.lines if l.startswith("peek32")]
     assert vals[:64] == vals[64:]
@@ -238,21 +244,22 @@ def test_corrupt_header_never_writes_outside_the_queue():
 def test_stop_bits_brake_and_are_cleared():
     cmds = [(a, m) for a in range(4) for m in ("INIT", "ME", "E")]
     cmds += [(1, "MS"), (1, "E"), (3, "WDA", 500), (3, "MT"), (3, "E"), "run 20",
-             "poke16 0x4600 0x00AA", "run 3", "peek16 0x4600",
+             "poke16 %s 0x00AA" % STOP, "run 3", "peek16 %s" % STOP,
              (0, "RBS"), (1, "RBS"), (2, "RBS"), (3, "RBS")]
     r = run(cmds)
-    assert r.peek(0x4600) == 0
+    assert r.peek(board.DP_STOP_BITS) == 0
     st = [p for _, c, p in r.resps() if c == 125]
     assert [s & 0xFF for s in st] == [7, 7, 7, 0]          # brake; the test-mode axis is disabled
 
 
 def test_stop_bits_only_for_their_axis_and_byte_access():
     cmds = [(a, m) for a in range(2) for m in ("INIT", "ME", "E")]
-    cmds += ["run 20", "poke8 0x4600 0x08", "run 3", (0, "RBS"), (1, "RBS"), "peek16 0x4600"]
+    cmds += ["run 20", "poke8 %s 0x%02X" % (STOP, stop_bit(1)), "run 3", (0, "RBS"), (1, "RBS"),
+             "peek16 %s" % STOP]
     r = run(cmds)
     st = [p & 0xFF for _, c, p in r.resps() if c == 125]
     assert st == [1, 7]
-    assert r.peek(0x4600) == 0
+    assert r.peek(board.DP_STOP_BITS) == 0
 
 
 def test_test_mode_outputs_da_and_ignores_usr():
@@ -261,24 +268,24 @@ def test_test_mode_outputs_da_and_ignores_usr():
 
 
 def test_external_position_via_dpram_handshake():
-    cmds = [(0, "UWET", 4), (0, "UWEA", 0x330A), (0, "UWEB", 32), (0, "UWEC", 0),
-            "poke32 0x330A 12345", "poke16 0x3308 0x8000", (0, "INIT"), "run 5",
-            "peek16 0x3308", (0, "RCP"), "run 5",
-            "poke32 0x330A 777", "poke16 0x3308 0x8000", "run 5", "peek16 0x3308", (0, "RCP"), "run 5",
-            "poke32 0x330A 999", "run 5", (0, "RCP")]            # no flag: the card keeps 777
+    cmds = [(0, "UWET", 4), (0, "UWEA", EXT_POS), (0, "UWEB", 32), (0, "UWEC", 0),
+            *ext_value(12345), (0, "INIT"), "run 5",
+            "peek16 0x%X" % EXT_FLAG, (0, "RCP"), "run 5",
+            *ext_value(777), "run 5", "peek16 0x%X" % EXT_FLAG, (0, "RCP"), "run 5",
+            *ext_value(999, flag=False), "run 5", (0, "RCP")]            # no flag: the card keeps 777
     r = run(cmds)
     pos = [p for _, c, p in r.resps() if c == 116]
     assert pos == [12345, 777, 777]
-    assert [int(l.split()[2], 16) for l in r.grep(r"^peek16 0x3308 ")] == [0, 0]
+    assert [int(l.split()[2], 16) for l in r.grep(r"^peek16 0x%X " % EXT_FLAG)] == [0, 0]
 
 
 # ---- watchdog, emergency stop, interrupts ----------------------------------------
 def test_watchdog_disables_all_axes_and_reports_164_once():
     cmds = [(a, m) for a in range(4) for m in ("INIT", "ME", "E")]
-    cmds += ["run 20", (2, "WWD", 50), "run 80", "peek32 0x4034", (1, "RBS"), (1, "ME"), (1, "C"), (1, "RAS")]
+    cmds += ["run 20", (2, "WWD", 50), "run 80", "peek32 0x%X" % board.DPC_OSTAT, (1, "RBS"), (1, "ME"), (1, "C"), (1, "RAS")]
     r = run(cmds)
     got = r.resps()
-    assert r.peek(0x4034) & obits("watch_f")
+    assert r.peek(board.DPC_OSTAT) & obits("watch_f")
     assert got[-4][1] == 125                               # a read is executed (6.3)
     assert got[-3] == (1, 164, obits("watch_f"))           # the next other instruction gets the error
     assert got[-2][1] == 4

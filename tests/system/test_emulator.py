@@ -1,21 +1,9 @@
 """The emulator reports what a real card would not survive, never ignores it."""
-import struct
 
 import pytest
 
 from conftest import SIM, sim
-
-
-def crafted(tmp_path, code):
-    """A 64 KiB image: reset vectors, then `code` at $100400 after releasing
-    the boot overlay (clr.w $F00004)."""
-    img = bytearray(b"\xff" * 0x10000)
-    img[0:8] = struct.pack(">II", 0x3000, 0x100400)
-    prog = bytes.fromhex("427900F00004") + bytes.fromhex(code) + bytes.fromhex("60FE")  # bra.s *
-    img[0x400:0x400 + len(prog)] = prog
-    p = tmp_path / "crafted.bin"
-    p.write_bytes(img)
-    return str(p)
+from mac4 import crafted
 
 
 @pytest.mark.parametrize("code,pattern", [

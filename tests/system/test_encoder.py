@@ -7,26 +7,14 @@ import re
 import pytest
 
 from conftest import CARDS
-from mac4 import BIT, MODE, run, ubits
+from mac4 import ERR, EXT_POS, MODE, codes, ext_value, has, run, signed, ubits
 from test_serial import parse, rx_bytes
 
-ERR_LIMIT, ERR_LOGICAL = 162, 163
-
-
-def codes(r):
-    return [c for _, c, _ in r.resps()]
-
-
-def signed(v):
-    return v - (1 << 32) if v & 0x80000000 else v
+ERR_LIMIT, ERR_LOGICAL = ERR["limit_f"], ERR["logo_f"]
 
 
 def rcp(r):
     return [signed(p) for _, c, p in r.resps() if c == 116]
-
-
-def has(st, name):
-    return bool(st & (1 << BIT["user"][name]))
 
 
 def plant_rev(r, n=0):
@@ -43,7 +31,7 @@ def vme_value(r):
 def test_init_refuses_the_default_ea(card, et):
     # <ea> = 0 (the default) once read $FFFFFE and wrote it back: 162 at INIT now
     r = run([(0, "UWET", et), (0, "INIT"), "run 20", (0, "RBS"), (0, "C"),
-             (0, "UWEA", 0x330A), (0, "INIT"), "run 20", (0, "RBS")], card)
+             (0, "UWEA", EXT_POS), (0, "INIT"), "run 20", (0, "RBS")], card)
     got = r.resps()
     assert [c for _, c, _ in got] == [178, ERR_LIMIT, 125, 4, 180, 2, 125]
     assert got[1][2] & ubits("limit_f") and not has(got[2][2], "init")
@@ -119,8 +107,8 @@ def test_internal_systems_ignore_ea():
 
 # ---- K2: an encoder error is raised once --------------------------------------------
 def test_absolute_value_beyond_ec_is_reported_once_then_the_host_recovers():
-    r = run([(0, "UWET", 4), (0, "UWEA", 0x330A), (0, "UWEC", 1000),
-             "poke32 0x330A 5000", "poke16 0x3308 0x8000", (0, "INIT"), "run 20",
+    r = run([(0, "UWET", 4), (0, "UWEA", EXT_POS), (0, "UWEC", 1000),
+             *ext_value(5000), (0, "INIT"), "run 20",
              (0, "RBS"), "run 20", (0, "C"), "run 20", (0, "C"), "run 20", (0, "DEINIT"), "run 20",
              (0, "UWEC", 10000), "run 20", (0, "INIT"), "run 20", (0, "RBS"), (0, "RCP")])
     got = r.resps()
@@ -156,10 +144,10 @@ def test_an_encoder_error_during_e_is_never_overridden_by_it():
     # offset in a tick period (step 10 us, the stretches are ~100 us).
     outcomes = set()
     for k in range(250):
-        r = run([(0, "UWET", 4), (0, "UWEA", 0x330A), (0, "UWEC", 100000), "poke32 0x330A 500",
-                 "poke16 0x3308 0x8000", (0, "INIT"), "run 20", (0, "ME"), (0, "E"), "run 20",
+        r = run([(0, "UWET", 4), (0, "UWEA", EXT_POS), (0, "UWEC", 100000), *ext_value(500),
+                 (0, "INIT"), "run 20", (0, "ME"), (0, "E"), "run 20",
                  (0, "WAP", 800), (0, "MP"), "run 5", "run-ticks 1", "run %.2f" % (k * 0.01),
-                 "poke32 0x330A 500000", "poke16 0x3308 0x8000", (0, "E"), "run 20", (0, "RBS")])
+                 *ext_value(500000), (0, "E"), "run 20", (0, "RBS")])
         got = r.resps()
         assert [c for _, c, _ in got[:-2]] == [178, 180, 184, 2, 52, 3, 70, 59], got
         _, code, st = got[-2]
@@ -183,12 +171,12 @@ def test_encoder_error_over_the_serial_line_can_be_acknowledged():
 # ---- K3: relative measurement modulo <ec> ------------------------------------------
 def dpram_values(values, et=3, ec=1000, eb=None):
     # STP: <ms> = 4 <es>, one step per increment (4.4.2.3)
-    cmds = [(0, "UWET", et), (0, "UWEA", 0x330A), (0, "UWEC", ec), (0, "UWMS", 2000), (0, "C")]
+    cmds = [(0, "UWET", et), (0, "UWEA", EXT_POS), (0, "UWEC", ec), (0, "UWMS", 2000), (0, "C")]
     cmds += [(0, "UWEB", eb)] if eb else []
-    cmds += ["poke32 0x330A %d" % values[0], "poke16 0x3308 0x8000", (0, "INIT"), "run 10", (0, "RCP"),
+    cmds += [*ext_value(values[0]), (0, "INIT"), "run 10", (0, "RCP"),
              "run 10"]
     for v in values[1:]:
-        cmds += ["poke32 0x330A %d" % v, "poke16 0x3308 0x8000", "run 10", (0, "RCP"), "run 10"]
+        cmds += [*ext_value(v), "run 10", (0, "RCP"), "run 10"]
     return cmds
 
 

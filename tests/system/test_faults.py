@@ -29,15 +29,16 @@ from dataclasses import dataclass, field, replace
 import pytest
 
 from conftest import BOOT, sim
-from mac4 import MODE, code, obits, ubits
+from mac4 import (CMDQ, EXT_POS, MODE, RSPQ, TICK_MS, board, code, ext_value, obits, pos_addr, q_repair, qh,
+                  signed, ubits)
 
-TICK_MS = {"inc": 2.5, "ssi": 2.5, "stp": 8.0}
-EN = 0x0001                                   # AX_CTRL bit 0: /EN driven
+EN = board.AX_CTRL_EN                         # /EN driven
 ERROR_BITS = ("syn_f", "limit_f", "logo_f", "encoder_f", "dr_f", "ferr_f")
 CARD_BITS = ("h_stop", "axis_f", "watch_f")
-DPC_RSP_LOST, DPC_QUEUE_ERRORS, DPC_COMMANDS = 0x4020, 0x4024, 0x403C
-STOP_BITS = 0x4600
+DPC_RSP_LOST, DPC_QUEUE_ERRORS, DPC_COMMANDS = board.DPC_RSP_LOST, board.DPC_QUEUE_ERRORS, board.DPC_COMMANDS
+STOP_BITS = board.DP_STOP_BITS
 RBS, VER = code("RBS"), code("VER")
+CMDQ_REAR, RSPQ_FRONT = qh(CMDQ, "REAR"), qh(RSPQ, "FRONT")
 
 
 def ub(*names):
@@ -46,14 +47,6 @@ def ub(*names):
 
 
 ob = obits
-
-
-def signed(v):
-    return v - (1 << 32) if v & 0x80000000 else v
-
-
-def pos_addr(n):
-    return 0x3008 + 0x400 * n                 # published position of axis n (DPA_POS)
 
 
 # ---- findings: the kinds of failure an xfail row may name ---------------------
@@ -397,12 +390,12 @@ def b_jump(inject, inject_stp=None):
 def b_ec(s, card, ph):
     # the position comes from the host through the DPRAM (3.5.2), absolute
     # (<et> 4), <ec> = 100000 (4.4.2.1); the host's encoder reports 150000
-    s.send(0, "UWET", 4).send(0, "UWEA", 0x330A).send(0, "UWEB", 24).send(0, "UWEC", 100000)
-    s("poke32 0x330A 5000", "poke16 0x3308 0x8000")
+    s.send(0, "UWET", 4).send(0, "UWEA", EXT_POS).send(0, "UWEB", 24).send(0, "UWEC", 100000)
+    s(*ext_value(5000))
     init(s, (0, 1))
     s("run 50")
     watch(s, 8 + ph)
-    s("poke32 0x330A 150000", "poke16 0x3308 0x8000", "run-ticks 12", "perf ticks off", "run 50")
+    s(*ext_value(150000), "run-ticks 12", "perf ticks off", "run 50")
     return {"event": ("inject",)}
 
 
@@ -429,7 +422,7 @@ def b_stop_bits(s, card, ph):
     s("run %d" % SETTLE[card])
     watch(s, 8 + ph)
     for k in range(40):
-        s("poke16 0x4600 0x002A", "run-ticks 1", "peek16 0x4600")
+        s("poke16 0x%X 0x002A" % STOP_BITS, "run-ticks 1", "peek16 0x%X" % STOP_BITS)
         if k == 20:
             move(s, 0)                                   # a new move: accepted, braked again
     s("perf ticks off", "run 100")
@@ -445,10 +438,10 @@ def stop_bits_cleared(out, card, variant, info):
 # not trust, many times over at different points of the card's main loop,
 # and repairs the header (as the card created it, 7.3.2) after each; the
 # fixed words (base, width, nel) and the two indices.
-CORRUPT_HEADER = [(0x4700, 0x1000), (0x4710, 11), (0x4714, 200)]
-CORRUPT_INDEX = [(0x4704, 10), (0x4704, 0x80000000), (0x4708, 10), (0x4708, 0xFFFFFFFF)]
-REPAIR_CMDQ = ("poke32 0x4700 0x18", "poke32 0x4710 0xA", "poke32 0x4714 0xA", "poke32 0x4704 0",
-               "poke32 0x4708 0")
+CORRUPT_HEADER = [(qh(CMDQ, "BASE"), 0x1000), (qh(CMDQ, "WIDTH"), 11), (qh(CMDQ, "NEL"), 200)]
+CORRUPT_INDEX = [(qh(CMDQ, "FRONT"), 10), (qh(CMDQ, "FRONT"), 0x80000000), (qh(CMDQ, "REAR"), 10),
+                 (qh(CMDQ, "REAR"), 0xFFFFFFFF)]
+REPAIR_CMDQ = q_repair(CMDQ)
 ATTEMPTS = 100
 
 
@@ -491,7 +484,7 @@ def cmdq_counted_once(out, card, variant, info):
     assert not wrong, "corruptions not counted once (attempt, before, after): %s" % wrong
 
 
-CORRUPT_RSP = [(0x4810, 11), (0x4814, 9), (0x4800, 0x20), (0x4804, 10)]
+CORRUPT_RSP = [(qh(RSPQ, "WIDTH"), 11), (qh(RSPQ, "NEL"), 9), (qh(RSPQ, "BASE"), 0x20), (qh(RSPQ, "FRONT"), 10)]
 
 
 def b_rspq(s, card, v):
@@ -504,8 +497,7 @@ def b_rspq(s, card, v):
         s("run 2")
     s("run 20", "peek32 0x%X" % DPC_COMMANDS, "peek32 0x%X" % DPC_RSP_LOST,
       # repaired as the card created it; the queue is empty (front = rear)
-      "poke32 0x4800 0x18", "poke32 0x4810 0xA", "poke32 0x4814 0xA", "poke32 0x4804 0", "poke32 0x4808 0",
-      "run 2")
+      *q_repair(RSPQ), "run 2")
     s.send(0, "RAP", tag="rap")
     s("run 5")
     return {}
@@ -614,9 +606,9 @@ def b_brownout(s, card, v):
     s.mark("inject")
     # the reset line goes while a command is on its way through the card:
     # in the queue, being executed, or answered and not yet read
-    s("peek32 0x4708", "peek32 0x4804")
+    s("peek32 0x%X" % CMDQ_REAR, "peek32 0x%X" % RSPQ_FRONT)
     s.send(2, "DEINIT", lose="may", tag="victim")
-    s("run %.3f" % (BROWNOUT_US[v] / 1000.0), "peek32 0x4708", "peek32 0x4804", "reset", "outputs",
+    s("run %.3f" % (BROWNOUT_US[v] / 1000.0), "peek32 0x%X" % CMDQ_REAR, "peek32 0x%X" % RSPQ_FRONT, "reset", "outputs",
       "wait-display 5 3000", "run 20")
     s.mark("booted")
     s.send(0, "RBS", tag="b0").send(2, "RBS", tag="b2").send(1, "VER", tag="ver")
@@ -627,8 +619,8 @@ def b_brownout(s, card, v):
 def brownout_reset_state(out, card, variant, info):
     o = out.outputs("inject")
     assert all(v == (0, 0, 0) for v in o.values()), o     # 2.5.1: every output in its default state at once
-    rear0, rear1 = out.peeks(0x4708, "inject", "booted")[:2]
-    front0, front1 = out.peeks(0x4804, "inject", "booted")[:2]
+    rear0, rear1 = out.peeks(CMDQ_REAR, "inject", "booted")[:2]
+    front0, front1 = out.peeks(RSPQ_FRONT, "inject", "booted")[:2]
     taken, answered = rear1 != rear0, front1 != front0
     victim = [r for r in out.resps() if r[1] == 2 and r[2] == code("DEINIT")]
     # answered once if the answer was in the queue before the reset, else never
@@ -727,7 +719,7 @@ MATRIX = [
         "4.4.2.1, 6.3.8", b_ec, err=("axis", 163, ub("encoder_f", "logo_f")),
         state={0: ("disable", ("encoder_f", "logo_f")), 1: ("enable", ())}, after={0: ("disable", ())},
         display="C", leds={"D": (0,)}, timing=(((0,), {"off"}, 1),),
-        repair=("poke32 0x330A 5000", "poke16 0x3308 0x8000")),
+        repair=tuple(ext_value(5000))),
     Row("watchdog", "the host stops sending (watchdog <wd>), all axes moving", ALL, "4.7, 6.3.6, 4.8.2",
         b_watchdog, err=("card", 164, ob("watch_f")),
         state={n: ("disable", ()) for n in AXES4}, after={0: ("disable", ())},

@@ -15,6 +15,7 @@ import time
 import pytest
 
 from conftest import BUILD, CARDS, SIM
+from mac4 import CMDQ, TICK_MS, board, qh
 
 GDB = shutil.which("gdb-multiarch")
 pytestmark = pytest.mark.skipif(GDB is None, reason="gdb-multiarch missing (tools/deps/apt.txt)")
@@ -97,7 +98,7 @@ def test_batch_session(card):
     # memory written, and the next tick counts on from it
     assert "= 1000" in g and re.search(r"^\$\d+ = 1001$", g, re.M), g
     times = [float(x) for x in re.findall(r"^time ([0-9.]+) ms", g, re.M)]
-    period = 8.0 if card == "stp" else 2.5
+    period = TICK_MS[card]
     assert len(times) == 2 and abs(times[1] - times[0] - period) < 0.01, times
     assert "detached" in g
     assert any(l.startswith("status time=800.0") for l in lines), lines   # the script ran on
@@ -125,7 +126,7 @@ def test_time_stands_still_and_eprom_is_not_written():
     assert re.search(r"Section \.text, range .*: matched", g), g      # breakpoints not in the EPROM
     assert "Cannot access memory at address" in g, g                   # the EPROM is read-only
     code = open(os.path.join(BUILD, "eprom", "mac4-inc.bin"), "rb").read()
-    first = code[symbol("inc", "fw_isr_tick") - 0x100000:][:2]
+    first = code[symbol("inc", "fw_isr_tick") - board.EPROM_BASE:][:2]
     assert re.search(r":\s+0x%02x\s+0x%02x" % (first[0], first[1]), g), g
 
 
@@ -224,7 +225,7 @@ def test_ctrl_c_stops_a_running_card():
         t = float(re.search(r"time ([0-9.]+) ms", "".join(mi.until("^done"))).group(1))
         assert 900 < t < 5000, t                          # about the wall time it ran
         # a read watchpoint on the DPRAM: the main loop polls the command queue's write index
-        mi.send('-break-watch -r "*(unsigned long *)0x%x"' % (0x4700 + 4))
+        mi.send('-break-watch -r "*(unsigned long *)0x%x"' % qh(CMDQ, "FRONT"))
         mi.until("^done")
         mi.send("-exec-continue")
         stop = mi.until("*stopped")[-1]

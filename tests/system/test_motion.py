@@ -5,11 +5,9 @@ import re
 import pytest
 
 from conftest import BOOT, sim
-from mac4 import BIT, MODE, code, obits, ubits
+from mac4 import EXT_POS, MODE, code, has, mode, obits, samples, stop_line, ubits, watch
 
 INIT_EN = ["send %d INIT", "send %d ME", "send %d E"]
-USTAT = 0x3000
-POS = 0x3008
 
 
 def axis(lines, n=0):
@@ -20,29 +18,6 @@ def go(lines, card="inc", args=(), allow=False):
     r = sim(BOOT + "\n".join(lines) + "\n", card, args=list(args) + (["--allow-faults"] if allow else []))
     assert r.rc == 0, (r.stderr, r.faults())
     return r
-
-
-def watch(n=0, ms=10, count=100):
-    """Sample the published user status and position of axis n."""
-    out = []
-    for _ in range(count):
-        out += ["run %d" % ms, "peek32 0x%X" % (USTAT + 0x400 * n), "peek32 0x%X" % (POS + 0x400 * n)]
-    return out
-
-
-def samples(r, n=0):
-    st = [int(l.split()[2], 16) for l in r.lines if l.startswith("peek32 0x%X " % (USTAT + 0x400 * n))]
-    ps = [int(l.split()[2], 16) for l in r.lines if l.startswith("peek32 0x%X " % (POS + 0x400 * n))]
-    ps = [p - (1 << 32) if p & 0x80000000 else p for p in ps]
-    return st, ps
-
-
-def has(st, name):
-    return bool(st & (1 << BIT["user"][name]))
-
-
-def mode(st):
-    return st & 0xFF
 
 
 MOVE = ["send 0 WPV 60", "send 0 WPA 6", "send 0 WPD 6"]
@@ -113,7 +88,7 @@ def test_off_fly_5_15_example_2():
 def test_off_fly_commands_wait_but_stop_bits_act():
     r = go(axis(INIT_EN) + ["run 20", "send 0 FLYOFF"] + MOVE +
            ["send 0 WAP 40000", "send 0 MP", "send 0 E", "run 300", "send 0 RBS", "run 100",
-            "poke16 0x4600 0x0002"] + watch(count=80))
+            stop_line(0)] + watch(count=80))
     st, ps = samples(r)
     # RBS was held while the move ran; the stop bit brakes at once and then it is answered
     assert mode(st[-1]) == MODE["brake"]
@@ -178,7 +153,7 @@ def test_search_index_coarse_and_fine():
 
 
 def test_search_index_needs_the_incremental_encoder():
-    got = [c for _, c, _ in go(["send 0 UWET 3", "send 0 UWEA 0x330A"] + axis(INIT_EN) +
+    got = [c for _, c, _ in go(["send 0 UWET 3", "send 0 UWEA 0x%X" % EXT_POS] + axis(INIT_EN) +
                                ["send 0 MC", "send 0 E", "run 30"]).resps()]
     assert got[-1] == 163
 

@@ -18,12 +18,12 @@ import re
 import pytest
 
 from conftest import BOOT, ROOT, sim
-from mac4 import BIT, MODE, code
+import mac4
+from mac4 import ERR, MODE, axis_addr, board, code, codes, has, mode, signed, watch
 
 SCEN = os.path.join(ROOT, "tests", "scenarios")
-USTAT, POS = 0x3000, 0x3008
-ERR_LIMIT, ERR_LOGICAL = 162, 163
-EN = 0x0001                                   # AX_CTRL bit 0: /EN driven
+ERR_LIMIT, ERR_LOGICAL = ERR["limit_f"], ERR["logo_f"]
+EN = board.AX_CTRL_EN                         # /EN driven
 
 
 def scen(name):
@@ -36,25 +36,6 @@ def go(lines, card="inc", args=()):
     return r
 
 
-def signed(v):
-    return v - (1 << 32) if v & 0x80000000 else v
-
-
-def has(st, name):
-    return bool(st & (1 << BIT["user"][name]))
-
-
-def mode(st):
-    return st & 0xFF
-
-
-def watch(n=0, ms=10, count=100):
-    out = []
-    for _ in range(count):
-        out += ["run %d" % ms, "peek32 0x%X" % (USTAT + 0x400 * n), "peek32 0x%X" % (POS + 0x400 * n)]
-    return out
-
-
 TS = re.compile(r"^@[\d.]+ms ")
 
 
@@ -64,19 +45,12 @@ def plain(r):
 
 
 def samples(r, n=0):
-    ls = plain(r)
-    st = [int(l.split()[2], 16) for l in ls if l.startswith("peek32 0x%X " % (USTAT + 0x400 * n))]
-    ps = [signed(int(l.split()[2], 16)) for l in ls if l.startswith("peek32 0x%X " % (POS + 0x400 * n))]
-    return st, ps
+    return mac4.samples(plain(r), n)
 
 
 def plant_pos(r, n=0):
     rx = re.compile(r"^plant %d .* ?pos=(-?\d+) " % n)
     return [int(m.group(1)) for m in map(rx.search, plain(r)) if m]
-
-
-def codes(r):
-    return [c for _, c, _ in r.resps()]
 
 
 def answers(r, mn):
@@ -397,11 +371,14 @@ class FramesDiffer(AssertionError):
     pass
 
 
+SP_POS_FERR = [axis_addr(0, f) for f in ("SETPOINT", "POS", "FERR")]
+
+
 def test_published_setpoint_and_position_share_a_frame_after_wzp():
     r = go([BOOT.strip()] + ENABLE + ["send 0 WAP 300", "send 0 MP", "send 0 E", "run 800", "send 0 WZP 5000",
-                                      "run 20", "peek32 0x300C", "peek32 0x3008", "peek32 0x3010", "send 0 RCP",
-                                      "run 5"])
-    sp, pos, ferr = (signed(r.peek(a)) for a in (0x300C, 0x3008, 0x3010))
+                                      "run 20"] + ["peek32 0x%X" % a for a in SP_POS_FERR] +
+           ["send 0 RCP", "run 5"])
+    sp, pos, ferr = (signed(r.peek(a)) for a in SP_POS_FERR)
     assert pos == 5000 == signed(answers(r, "RCP")[0][1]) and ferr == 0
     if sp - pos != ferr:
         raise FramesDiffer("setpoint %d, position %d, following error %d" % (sp, pos, ferr))

@@ -6,9 +6,9 @@ search that finds no index) used to hold the whole card."""
 import pytest
 
 from conftest import BOOT, sim
-from mac4 import MODE, code
+from mac4 import CMDQ, MODE, code, pos_addr, qh, stop_line, ustat_addr
 
-STOP_BIT = {0: 0x0002, 1: 0x0008, 2: 0x0020, 3: 0x0080}      # $4600, 3.5.1
+REAR = qh(CMDQ, "REAR")
 
 
 def enable(*axes):
@@ -85,7 +85,7 @@ def test_endless_search_reads_c_and_other_axes_answer_at_once():
            ["echo ==held", "send 0 WAP 5000", "send 0 MP", "send 0 E", "run 10",
             "echo ==others", "send 0 RBS", "send 1 RBS", "send 0 VER", "send 0 RCP", "send 1 WPV 50", "send 0 C",
             "send 0 RAP", "send 1 RPV", "send 2 RBS", "run 300",
-            "echo ==stop", "poke16 0x4600 0x%04X" % STOP_BIT[0], "run 50", "peek32 0x3000", "run 50"])
+            "echo ==stop", stop_line(0), "run 50", "peek32 0x%X" % ustat_addr(0), "run 50"])
     t_held, t_others, t_stop = idx(r, "held"), idx(r, "others"), idx(r, "stop")
     # while the search runs: every read, C and every command of the other axes answered, each once
     during = between(r, t_held, t_stop)
@@ -107,7 +107,7 @@ def test_endless_search_reads_c_and_other_axes_answer_at_once():
     assert [c for _, c in held] == [code("WAP"), code("MP"), code("E")], held
     assert all(n > t_stop for n, _ in held), (held, t_stop)
     # ... and executed: the axis positions now (off-fly again)
-    st = [f[1] for ms, k, f in events(r) if k == "peek" and f[0] == 0x3000][-1]
+    st = [f[1] for ms, k, f in events(r) if k == "peek" and f[0] == ustat_addr(0)][-1]
     assert st & 0xFF == MODE["positioning"], hex(st)
 
 
@@ -116,7 +116,7 @@ def test_long_move_other_axes_not_held(card):
     """Axis 1 positions far off-fly; axis 2's commands and all reads go on."""
     r = go(enable(0, 1) + long_move(card, 0) +
            ["echo ==now", "send 0 WPA 5", "send 1 WPA 5", "send 1 RPA", "send 0 RPA", "send 0 RBS", "run 50",
-            "echo ==stop", "poke16 0x4600 0x%04X" % STOP_BIT[0], "run 50"], card)
+            "echo ==stop", stop_line(0), "run 50"], card)
     t_now, t_stop = idx(r, "now"), idx(r, "stop")
     during = [(a, c, p) for a, c, p in between(r, t_now, t_stop)]
     assert [(a, c) for a, c, _ in during] == [(1, code("WPA")), (1, code("RPA")), (0, code("RPA")),
@@ -131,8 +131,8 @@ def test_long_move_other_axes_not_held(card):
 def test_two_axes_off_fly_released_each_by_its_own_move():
     r = go(enable(0, 1) + endless_search(0) + long_move("inc", 1) +
            ["echo ==held", "send 0 WPV 11", "send 1 WPV 12", "send 0 WPV 21", "send 1 WPV 22", "run 20",
-            "echo ==stop2", "poke16 0x4600 0x%04X" % STOP_BIT[1], "run 50",
-            "echo ==stop1", "poke16 0x4600 0x%04X" % STOP_BIT[0], "run 50", "send 0 RPV", "send 1 RPV", "run 10"])
+            "echo ==stop2", stop_line(1), "run 50",
+            "echo ==stop1", stop_line(0), "run 50", "send 0 RPV", "send 1 RPV", "run 10"])
     t_held, t_stop2, t_stop1 = idx(r, "held"), idx(r, "stop2"), idx(r, "stop1")
     assert between(r, t_held, t_stop2) == []
     # axis 2's move ends: its two writes, in order; axis 1's still wait
@@ -146,9 +146,9 @@ def test_commands_of_the_held_axis_stay_in_series():
     move before it (the commands of one axis never overtake each other)."""
     r = go(enable(0) + long_move("inc", 0, 3000) +
            ["send 0 WAP 6000", "send 0 E", "send 0 WAP 1000", "send 0 E", "run 10"] +
-           sum([["run 20", "peek32 0x3008"] for _ in range(400)], []))
+           sum([["run 20", "peek32 0x%X" % pos_addr(0)] for _ in range(400)], []))
     pos = [f[1] - (1 << 32) if f[1] & 0x80000000 else f[1] for ms, k, f in events(r) if k == "peek"
-           and f[0] == 0x3008]
+           and f[0] == pos_addr(0)]
     beyond = next(i for i, p in enumerate(pos) if p > 3050)
     assert any(abs(p - 3000) <= 10 for p in pos[:beyond])  # at 3000 first ...
     assert abs(max(pos) - 6000) <= 10                    # ... then at 6000 ...
@@ -163,12 +163,12 @@ def test_hold_list_full_stops_the_interfaces_until_room():
     lines = enable(0, 1) + endless_search(0) + ["echo ==held"]
     for i in range(16):
         lines += ["send 0 WPV %d" % (100 + i), "run 2"]
-    lines += ["run 10", "peek32 0x4708", "send 1 RBS", "run 20", "peek32 0x4708", "echo ==stop",
-              "poke16 0x4600 0x%04X" % STOP_BIT[0], "run 100"]
+    lines += ["run 10", "peek32 0x%X" % REAR, "send 1 RBS", "run 20", "peek32 0x%X" % REAR, "echo ==stop",
+              stop_line(0), "run 100"]
     r = go(lines)
     t_held, t_stop = idx(r, "held"), idx(r, "stop")
     assert between(r, t_held, t_stop) == []       # not even axis 2's read
-    rears = [f[1] for ms, k, f in events(r) if k == "peek" and f[0] == 0x4708]
+    rears = [f[1] for ms, k, f in events(r) if k == "peek" and f[0] == REAR]
     assert rears[0] == rears[1]                          # the read stays in the queue
     after = between(r, t_stop, 10 ** 9)
     assert [(a, c) for a, c, _ in after] == [(0, code("WPV"))] * 16 + [(1, code("RBS"))], after
@@ -177,7 +177,7 @@ def test_hold_list_full_stops_the_interfaces_until_room():
 def test_serial_commands_are_held_and_answered_on_the_serial_line():
     r = go(enable(0) + endless_search(0) +
            ["echo ==held", "tx-msg 0 WPV 77", "run 60", "echo ==read", "tx-msg 0 RBS", "run 60",
-            "echo ==stop", "poke16 0x4600 0x%04X" % STOP_BIT[0], "run 60"])
+            "echo ==stop", stop_line(0), "run 60"])
     t_held, t_read, t_stop = idx(r, "held"), idx(r, "read"), idx(r, "stop")
     # the telegram of the read comes at once (axis 0, code 125 = $7D), the write's after the stop
     assert between(r, t_held, t_read, "rx") == []

@@ -6,22 +6,11 @@ that releases the boot overlay and idles, and drive the axis registers with
 `axreg` as the 68000 would."""
 import csv
 import re
-import struct
 
 import pytest
 
 from conftest import BOOT, CARDS, sim
-
-
-def crafted(tmp_path, code=b"", name="idle.bin"):
-    """Reset vectors, clr.w $F00004 (release the overlay), `code`, bra.s *."""
-    img = bytearray(b"\xff" * 0x10000)
-    img[0:8] = struct.pack(">II", 0x3000, 0x100400)
-    prog = bytes.fromhex("427900F00004") + code + bytes.fromhex("60FE")
-    img[0x400:0x400 + len(prog)] = prog
-    p = tmp_path / name
-    p.write_bytes(img)
-    return str(p)
+from mac4 import crafted
 
 
 def run_idle(tmp_path, script, card="inc"):

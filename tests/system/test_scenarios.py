@@ -8,7 +8,7 @@ import re
 import pytest
 
 from conftest import BOOT, ROOT, sim
-from mac4 import BIT, MODE, code
+from mac4 import MODE, TICK_MS, code, has, signed
 
 SCEN = os.path.join(ROOT, "tests", "scenarios")
 
@@ -21,14 +21,6 @@ def go(text, card="inc", args=()):
     r = sim(text, card, args=list(args))
     assert r.rc == 0, r.stderr
     return r
-
-
-def signed(v):
-    return v - (1 << 32) if v & 0x80000000 else v
-
-
-def has(st, name):
-    return bool(st & (1 << BIT["user"][name]))
 
 
 def rows(path):
@@ -155,7 +147,8 @@ def test_trace_tick_card_writes_one_row_per_servo_tick_with_the_published_axis_d
                                   "card_pos", "setpoint", "ferr", "out", "ustat"]
     t = [float(x["t_ms"]) for x in rs]
     assert len(rs) == 600 or len(rs) == 601
-    assert all(abs((b - a) - 2.5) < 0.0015 for a, b in zip(t, t[1:]))     # every 2.5 ms, the timer's expiries (printed to 1 us)
+    # every controller period, the timer's expiries (printed to 1 us)
+    assert all(abs((b - a) - TICK_MS["inc"]) < 0.0015 for a, b in zip(t, t[1:]))
     v = [{k: num(x[k]) for k in x} for x in rs]
     # the card's own numbers agree with each other and with the plant: ferr =
     # setpoint - position, the position the card publishes is at most one

@@ -11,12 +11,15 @@ import tty
 import pytest
 
 from conftest import BOOT, SIM, sim
+from mac4 import CMDQ, board, qh
 
 DLE, STX, NAK = 0x10, 0x02, 0x15
 
 # Card data block words (hal/mac4_map.h, docs/memory-map.md)
-RX_OK, NAKS, GARBAGE, OVERRUNS, FRAMING, CMD_LOST, TX_OK, TX_LOST = range(0x4040, 0x4060, 4)
-STATS = "".join("peek32 0x%04X\n" % a for a in range(0x4040, 0x4060, 4))
+COUNTERS = (RX_OK, NAKS, GARBAGE, OVERRUNS, FRAMING, CMD_LOST, TX_OK, TX_LOST) = (
+    board.DPC_SERIAL_RX_OK, board.DPC_SERIAL_NAKS, board.DPC_SERIAL_GARBAGE, board.DPC_SERIAL_OVERRUNS,
+    board.DPC_SERIAL_FRAMING, board.DPC_SERIAL_CMD_LOST, board.DPC_SERIAL_TX_OK, board.DPC_SERIAL_TX_LOST)
+STATS = "".join("peek32 0x%04X\n" % a for a in COUNTERS)
 
 
 def encode(axis, code, param=0):
@@ -73,7 +76,7 @@ def parse(stream):
 
 
 def stats(run):
-    return {a: run.peek(a) for a in range(0x4040, 0x4060, 4)}
+    return {a: run.peek(a) for a in COUNTERS}
 
 
 # Manual 7.3.1: the five command telegrams, exactly as printed there.
@@ -166,12 +169,13 @@ def test_checksum_dle_accepted_doubled_or_not():
 def test_serial_commands_bypass_the_dpram_queue():
     # The command queue's write index belongs to the VME host: a serial
     # command must not move it; a VME command is answered in the DPRAM only.
-    r = sim(BOOT + tx(encode(0, 1)) + "run 80\npeek32 0x4704\npeek32 0x4708\n"
-            + "send 0 1\nrun 20\npeek32 0x4704\n")
+    front, rear = qh(CMDQ, "FRONT"), qh(CMDQ, "REAR")
+    r = sim(BOOT + tx(encode(0, 1)) + "run 80\npeek32 0x%X\npeek32 0x%X\n" % (front, rear)
+            + "send 0 1\nrun 20\npeek32 0x%X\n" % front)
     assert len(parse(rx_bytes(r))) == 1
-    assert r.grep(r"^peek32 0x4704 0x00000000$") and r.grep(r"^peek32 0x4708 0x00000000$")
+    assert r.grep(r"^peek32 0x%X 0x00000000$" % front) and r.grep(r"^peek32 0x%X 0x00000000$" % rear)
     assert len(r.resps()) == 1
-    assert r.grep(r"^peek32 0x4704 0x00000001$")
+    assert r.grep(r"^peek32 0x%X 0x00000001$" % front)
 
 
 def test_rx_groups_split_on_idle_line():

@@ -8,7 +8,7 @@ import re
 import pytest
 
 from conftest import BOOT, sim
-from mac4 import BIT, MODE
+from mac4 import MODE, TABLE, codes, sb, signed, stop_line, ub
 
 # the MAC4-STP example configuration of manual 7.2
 EXAMPLE_7_2 = ["send 0 UWMS 500", "send 0 WSSF 30", "send 0 WBT 80", "send 0 UWSH 1", "send 0 UWLP 1000000",
@@ -42,22 +42,12 @@ def plants(r, n=0):
 
 def resp(r, code):
     """Parameters of the responses with this code, signed."""
-    return [p - (1 << 32) if p & 0x80000000 else p for _, c, p in r.resps() if c == code]
+    return [signed(p) for _, c, p in r.resps() if c == code]
 
 
-def codes(r):
-    return [c for _, c, _ in r.resps()]
-
-
-def ub(name):
-    return 1 << BIT["user"][name]
-
-
-def sb(name):
-    return 1 << BIT["system"][name]
-
-
-DIRECTION = 1 << 10     # system status bit 10 on the STP: "direction", motion in negative direction
+# system status bit 10 on the STP: "direction", motion in negative direction
+# (the interlocking bit dr_disable on MAC4-INC/SSI; the name is the STP's bit 22's too)
+DIRECTION = 1 << [b["bit"] for b in TABLE["status"]["system"] if "MAC4-STP: direction" in b["description"]][0]
 
 
 RCP, RCPI, RFE, ROUT, RBS, RSS = 116, 117, 120, 121, 125, 126
@@ -393,7 +383,7 @@ def test_watchdog_ramps_and_disables():
 
 def test_stop_bit_brakes_a_creep():
     r = go(MOTOR_7_2 + EXAMPLE_7_2 + ENABLE + MOVE_7_2 + ["send 0 WSTC 40", "send 0 WAP 500", "send 0 MP",
-                                                            "send 0 E", "run 6000", "poke16 0x4600 0x0002",
+                                                            "send 0 E", "run 6000", stop_line(0),
                                                             "run 500", "send 0 RBS", "send 0 RCP", "plant 0",
                                                             "run 5"])
     bs = resp(r, RBS)[0]

@@ -6,7 +6,7 @@ the whole DAC range."""
 import pytest
 
 from conftest import BOOT, sim
-from mac4 import code
+from mac4 import TICK_MS, code
 
 
 def s16(v):
@@ -22,7 +22,7 @@ def track_jump(card, sw=None, usr=False, jump=1500):
     if sw is not None:
         lines.append("send 0 WSW %d" % sw)
     lines += ["send 0 PT", "send 0 E", "run 20", "send 0 RSW"]
-    lines += ["send 0 WAT %d" % jump] + sum([["run 2.5", "send 0 ROUT"] for _ in range(60)], [])
+    lines += ["send 0 WAT %d" % jump] + sum([["run %g" % TICK_MS["inc"], "send 0 ROUT"] for _ in range(60)], [])
     r = sim(BOOT + "\n".join(lines) + "\n", card)
     assert r.rc == 0, r.stderr
     outs = [s16(p) for a, c, p in r.resps() if c == code("ROUT")]

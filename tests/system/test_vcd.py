@@ -12,10 +12,11 @@ import pytest
 from vcd.reader import TokenKind, tokenize
 
 from conftest import ROOT, SIM
-from mac4 import code
+from mac4 import board, code
 
 SCEN = os.path.join(ROOT, "tests", "scenarios")
-CYC = 625                                   # 100 ps units per 68000 cycle
+CYC = 10 ** 10 // board.MAC4_CPU_HZ          # 100 ps units per 68000 cycle (625)
+CYC_MS = board.MAC4_CPU_HZ // 1000            # 68000 cycles per ms
 
 
 def parse(path):
@@ -53,7 +54,7 @@ def value_at(wave, t):
     return v
 
 
-BIT = 33333 * CYC / 10                       # one bit at 4800 baud, 100 ps units
+BIT = board.MAC4_CPU_HZ * CYC / board.UART_BAUD   # one bit at 4800 baud, 100 ps units
 
 
 def uart_bytes(wave):
@@ -109,7 +110,7 @@ def test_inc_72_machine(tmp_path):
     assert len(rows) > 200
     dac = waves["axis1.dac"]
     for r in rows:
-        t = round(float(r["t_ms"]) * 16000) * CYC
+        t = round(float(r["t_ms"]) * CYC_MS) * CYC
         w = value_at(dac, t)
         assert (w - 4096 if w >= 2048 else w) == int(r["dac"]), r
     assert len(set(r["dac"] for r in rows)) > 20                     # it did move
@@ -125,9 +126,10 @@ def test_inc_72_machine(tmp_path):
     for t, _ in cnt[-50:]:
         assert phase[(value_at(a, t), value_at(b, t))] == (value_at(cnt, t) - cnt[-1][1] + phase[(a[-1][1], b[-1][1])]) % 4
     # the handler: the tick every 2.5 ms, acknowledge to RTE
-    h = [(t, x) for t, x in waves["card.handler"] if t > 600 * 16000 * CYC]
-    starts = [t for t, x in h if x == 6]
-    assert all(abs((y - x) / CYC - 40000) < 4000 for x, y in zip(starts, starts[1:])), starts[:5]
+    h = [(t, x) for t, x in waves["card.handler"] if t > 600 * CYC_MS * CYC]
+    starts = [t for t, x in h if x == board.IRQ_LEVEL_TIMER]
+    period = board.PERIOD_CYCLES["inc"]
+    assert all(abs((y - x) / CYC - period) < period / 10 for x, y in zip(starts, starts[1:])), starts[:5]
     # the serial telegram to the card and the answer on TxD: 10 bits of 3333 cycles
     for line in ("card.rxd", "card.txd"):
         got = uart_bytes(waves[line])
@@ -149,9 +151,10 @@ def test_ssi_72_machine_and_ssi_lines(tmp_path):
     assert len(waves["axis1.ssi_clk"]) == 1
     clk = waves["axis2.ssi_clk"]
     rises = [t for (t, x), (_, p) in zip(clk[1:], clk) if x == 1 and p == 0]
-    assert len(rises) >= 26 * 10
+    assert len(rises) >= board.SSI_CLOCKS * 10
     # 26 clocks per read at J2's 750 kHz: 21.33 cycles each
-    assert abs((rises[25] - rises[0]) / CYC / 25 - 16e6 / 750e3) < 0.05
+    n = board.SSI_CLOCKS - 1
+    assert abs((rises[n] - rises[0]) / CYC / n - board.MAC4_CPU_HZ / 750e3) < 0.05
 
 
 def test_stp_step_edges_equal_the_steps_counted(tmp_path):

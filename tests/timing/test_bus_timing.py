@@ -13,8 +13,12 @@ import sys
 import pytest
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "tools"))
-import mac4map  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "host"))
 import perfscen as ps  # noqa: E402
+from mac4card import board  # noqa: E402  (generated from board/mac4.toml, as hal/mac4_map.h)
+
+# the regions --wait-states takes, in the order of MAC4_BUS_TIMING, the unmapped rest last
+REGIONS = [name for name, _, _ in board.BUS_TIMING] + ["unmapped"]
 
 _boot = {}
 
@@ -34,12 +38,12 @@ def expected_delta(zero, table):
 def parse_spec(spec):
     """--wait-states SPEC as {region: (read, write)}: N everywhere, or items
     over the defaults of hal/mac4_map.h."""
-    names = mac4map.regions()
+    names = REGIONS
     if spec.isdigit():
         return {r: (int(spec), int(spec)) for r in names}
     t = {r: [0, 0] for r in names}
-    for row in mac4map.bus_timing():
-        t[row["name"]] = [row["read"], row["write"]]
+    for name, rd, wr in board.BUS_TIMING:
+        t[name] = [rd, wr]
     for item in spec.split(","):
         key, v = item.split("=")
         reg, _, kind = key.partition(".")
@@ -78,16 +82,16 @@ def test_the_boot_takes_its_bus_cycles_times_the_wait_states_longer(card, spec):
 
 def test_the_default_model_is_the_table_of_mac4_map_h():
     """The C side (mac4sim's configuration line) and the Python side
-    (tools/mac4map.py) read the same table."""
+    (host/mac4card/board.py, generated with the header) have the same table."""
     line = boot("inc", "default")["timing"]
     assert line == boot("inc", None)["timing"]
     got = dict(item.split("=") for item in line.split()[1:])
-    for row in mac4map.bus_timing():
-        assert got[row["name"]] == "%d/%d" % (row["read"], row["write"]), (row, line)
+    for name, rd, wr in board.BUS_TIMING:
+        assert got[name] == "%d/%d" % (rd, wr), (name, line)
     assert got["iack"] == "autovector" and got["unmapped"] == "0/0"
     # and the default model costs the boot what the table says
     zero, dflt = boot("inc", "0"), boot("inc", None)
-    table = {r["name"]: (r["read"], r["write"]) for r in mac4map.bus_timing()}
+    table = {name: (rd, wr) for name, rd, wr in board.BUS_TIMING}
     assert dflt["cycles"] - zero["cycles"] == expected_delta(zero, table) + dflt["contention_clocks"] - zero[
         "contention_clocks"]
 
@@ -111,7 +115,7 @@ def test_the_interrupt_acknowledge_costs_the_e_clock_synchronisation():
         r = ps.parse(p.stdout)
         ticks[iack] = (r["irq"]["timer"]["min"], r["irq"]["timer"]["max"], r["irq"]["timer"]["count"])
     auto, vect = ticks["autovector"], ticks["vectored"]
-    diff = mac4map.constant("MAC4_IACK_AUTOVECTOR_CLOCKS") - 4 - mac4map.constant("MAC4_IACK_VECTORED_WAIT")
+    diff = board.MAC4_IACK_AUTOVECTOR_CLOCKS - 4 - board.MAC4_IACK_VECTORED_WAIT
     # (a tick at the window's edge may fall in one run and not the other: the
     # two boots differ by the acknowledges' cycles, which shift the window)
     assert abs(auto[2] - vect[2]) <= 1 and min(auto[2], vect[2]) >= 39

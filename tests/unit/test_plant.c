@@ -360,6 +360,47 @@ static void switch_levels_and_polarity(void **st)
 }
 
 /* ---- SSI -------------------------------------------------------------------- */
+/* The timer's expiry reaches the axis board as a signal (timer.expired): the
+ * SSI receivers set to AX_CTRL_SSI_SYNC start reading at the expiry, and with
+ * TMR_CTRL_SSI_WAIT the timer's request waits for the last of them
+ * (axis.ssi_busy); without it, or with no receiver synced, it is at once. */
+static void timer_expiry_starts_the_synced_ssi_reads(void **st)
+{
+    (void)st;
+    static const uint16_t modes[3] = {TMR_CTRL_RUN | TMR_CTRL_IE | TMR_CTRL_SSI_WAIT,
+                                      TMR_CTRL_RUN | TMR_CTRL_IE, TMR_CTRL_RUN | TMR_CTRL_IE | TMR_CTRL_SSI_WAIT};
+    for (int m = 0; m < 3; m++) {
+        setup_card(MAC4_CARD_SSI);
+        assert_string_equal(card.sig[SIG_TMR_EXPIRED].name, "timer.expired");
+        card.plant.ssi_clock = 3;                              /* 750 kHz: 555 cycles a frame */
+        if (m < 2) {
+            wr(0, AX_CTRL, AX_CTRL_SSI_SYNC);
+            wr(2, AX_CTRL, AX_CTRL_SSI_SYNC);
+        }
+        bus_write(&card, TMR_PERIOD, SERVO_PERIOD_US_SERVO, 2);
+        bus_write(&card, TMR_CTRL, modes[m], 2);
+        cyc_t expiry = now() + US_TO_CYC(SERVO_PERIOD_US_SERVO);
+        advance_cyc(US_TO_CYC(SERVO_PERIOD_US_SERVO));
+        assert_int_equal(now(), expiry);
+        assert_true(bus_read(&card, TMR_STATUS, 2) & TMR_ST_EXPIRED);
+        if (m < 2) {                                           /* both synced receivers read from the expiry */
+            assert_int_equal(card.plant.ax[0].ssi_start, expiry);
+            assert_int_equal(card.plant.ax[2].ssi_start, expiry);
+            assert_true(rd(2, AX_IN) & AX_IN_SSI_BUSY);
+            assert_false(rd(1, AX_IN) & AX_IN_SSI_BUSY);
+        } else
+            assert_false(rd(0, AX_IN) & AX_IN_SSI_BUSY);
+        if (m == 0) {                                          /* the request waits for the reads */
+            assert_false(sim_irq_lines(&card) & (1u << IRQ_LEVEL_TIMER));
+            assert_int_equal(periph_next_event(&card), expiry + 555);
+            advance_cyc(554);
+            assert_false(sim_irq_lines(&card) & (1u << IRQ_LEVEL_TIMER));
+            advance_cyc(1);
+        }
+        assert_true(sim_irq_lines(&card) & (1u << IRQ_LEVEL_TIMER));
+    }
+}
+
 static void ssi_gray_binary_placement_and_busy_time(void **st)
 {
     (void)st;
@@ -689,6 +730,7 @@ int main(void)
         cmocka_unit_test(encoder_faults),
         cmocka_unit_test(switch_levels_and_polarity),
         cmocka_unit_test(ssi_gray_binary_placement_and_busy_time),
+        cmocka_unit_test(timer_expiry_starts_the_synced_ssi_reads),
         cmocka_unit_test(step_generator_frequencies),
         cmocka_unit_test(pulse_down_counter_and_interrupts),
         cmocka_unit_test(stepper_start_stop_frequency),

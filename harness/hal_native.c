@@ -1,7 +1,9 @@
 /*
  * hal_native.c - hal.h for the host build: every register and DPRAM access
  * goes to the emulator's bus and peripheral models (harness/bus.c), the same
- * ones the 68000 image sees.
+ * ones the 68000 image sees.  Harness code: it is linked into the native
+ * firmware object (Makefile NATIVE_RULES, its static data reset with the
+ * firmware's), and implements what hal/native/hal_native.h declares.
  */
 #include <setjmp.h>
 #include <stdlib.h>
