@@ -252,6 +252,19 @@ def main():
               % (card.upper(), ps.SERIAL_TELEGRAMS, st.get("tx_ok", 0), st.get("overruns", 0), uart,
                  uart_need[card], ps.CHAR_CYCLES, ps.load_percent(ser[card]) or 0, ps.latency_ms(ser[card]) or 0))
 
+    print("== the extensions on four axes (docs/extensions.md; perfscen.EXT_SCENARIOS): worst tick, "
+          "their work after the ticks (longest slice, cycles per tick), command latency")
+    exts = {}
+    for card, names in ps.EXT_SCENARIOS.items():
+        for name in names:
+            r = runs.get(name, card)
+            slice_max, per_tick = ps.ext_cost(r)
+            e = exts.setdefault(card, {})[name] = {
+                "tick_worst_cycles": ps.worst(r, "timer"), "slice_max_cycles": slice_max,
+                "cycles_per_tick": per_tick, "command_latency_ms": ps.latency_ms(r)}
+            print("  MAC4-%s %-13s tick %6d  slice %6d  per tick %6d  latency %.2f ms (limit %.1f)"
+                  % (card.upper(), name, e["tick_worst_cycles"] or 0, slice_max or 0, per_tick or 0,
+                     e["command_latency_ms"] or 0, ps.BUDGET_LATENCY_MS))
     aims, dls = ps.aims(runs), ps.deadlines(runs)
     print("== aims (figure beside aim; make bench only, never a test)")
     print_rows(aims, "aim")
@@ -349,6 +362,7 @@ def main():
         "stack_bytes_per_card": {c: s["stack_bytes"] for c, s in stacks.items()},
         "moved_in_window": {c: ps.moved(res[c]) for c in ("inc", "ssi", "stp")},
         "aims": aims,
+        "extensions": exts,
         "bus_model": ps.bus_timing_line(),
         "sensitivity": sens,
         "boot_ms_no_wait_states": {c: ps.boot_ms(c, "0") for c in ("inc", "ssi", "stp")},
