@@ -27,7 +27,7 @@ FZ_SAN   := -fsanitize=address,undefined -fno-sanitize-recover=all -fsanitize-re
 FZ_GCC_CFLAGS   := -std=gnu11 -g -O1 -Wall -Wextra -Werror $(FZ_INC) $(FZ_SAN)
 FZ_CLANG_CFLAGS := -std=gnu11 -g -O1 -Wall -Wextra $(FZ_INC) $(FZ_SAN) -DFZ_FAST_BOOT
 FZ_COV_CFLAGS   := -std=gnu11 -g -O0 $(FZ_INC) -fprofile-instr-generate -fcoverage-mapping -DFZ_NO_SAN -DFZ_FAST_BOOT
-FZ_DEPS  := tests/fuzz/fuzz_card.h tests/fuzz/fuzz.mk $(FW_HDRS) $(HARNESS_HDRS)
+FZ_DEPS  := tests/fuzz/fuzz_card.h tests/fuzz/fuzz_input.h tests/fuzz/fuzz.mk $(FW_HDRS) $(HARNESS_HDRS)
 
 # objects: firmware and targets get libFuzzer's coverage, the harness only the sanitizers
 FZ_FW_OBJS = $(patsubst firmware/%.c,$(B)/fuzz/$(1)-$(2)/fw_%.o,$(FW_SRCS)) \
@@ -91,7 +91,7 @@ FZ_EMU_FLAGS := -Iharness -Ihal -Ifirmware -I$(MUS) -DMUSASHI_CNF='"musashi_cnf.
 FZ_EMU_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 FZ_EMU_CFLAGS_gcc   := -std=gnu11 -g -O2 -Wall -Wextra -Werror $(FZ_EMU_SAN) $(FZ_EMU_FLAGS)
 FZ_EMU_CFLAGS_clang := -std=gnu11 -g -O2 -Wall -Wextra $(FZ_EMU_SAN) $(FZ_EMU_FLAGS) -fsanitize=fuzzer-no-link
-FZ_EMU_DEPS := tests/fuzz/fuzz_emu.h tests/fuzz/fuzz_fopen.h tests/fuzz/fuzz.mk $(HARNESS_HDRS) $(MUS)/.stamp
+FZ_EMU_DEPS := tests/fuzz/fuzz_emu.h tests/fuzz/fuzz_input.h tests/fuzz/fuzz_fopen.h tests/fuzz/fuzz.mk $(HARNESS_HDRS) $(MUS)/.stamp
 FZ_EMU_OBJS = $(patsubst harness/%.c,$(B)/fuzz/emu-$(1)/h_%.o,$(FZ_EMU_HSRCS)) $(B)/fuzz/emu-$(1)/fopen.o
 
 define FZ_EMU_OBJ_RULES

@@ -29,6 +29,7 @@
 #include "cmd.h"
 #include "params.h"
 #include "serial.h"
+#include "fuzz_input.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerInitialize(int *argc, char ***argv);
@@ -121,25 +122,6 @@ static inline void fz_ubsan_report(const char *kind, const char *msg, const char
     abort();
 }
 #define FZ_CHECK(cond, ...) do { if (!(cond)) FZ_FAIL(__VA_ARGS__); } while (0)
-
-/* ---- the fuzz input as a stream of numbers --------------------------------- */
-typedef struct {
-    const uint8_t *p;
-    size_t n, i;
-} fz_in_t;
-
-static inline int fz_more(const fz_in_t *in) { return in->i < in->n; }
-static inline uint8_t fz_u8(fz_in_t *in) { return in->i < in->n ? in->p[in->i++] : 0; }
-static inline uint16_t fz_u16(fz_in_t *in)
-{
-    uint16_t hi = fz_u8(in);
-    return (uint16_t)(hi << 8 | fz_u8(in));
-}
-static inline uint32_t fz_u32(fz_in_t *in)
-{
-    uint32_t hi = fz_u16(in);
-    return hi << 16 | fz_u16(in);
-}
 
 /* ---- the firmware's stop (fw_halt) is a property violation here ---------- */
 static inline void fz_check_card(const char *after)

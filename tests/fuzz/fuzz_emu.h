@@ -14,6 +14,7 @@
 #include <string.h>
 #include "sim.h"
 #include "cpu.h"
+#include "fuzz_input.h"
 
 #ifndef FZ_EPROM_DIR
 #define FZ_EPROM_DIR "build/eprom"
@@ -59,15 +60,5 @@ static inline size_t fz_card_image(int card, uint8_t *buf)
     fclose(f);
     return n;
 }
-
-/* The input as a stream of bytes; a missing byte reads as 0. */
-typedef struct {
-    const uint8_t *p;
-    size_t n, i;
-} fz_in_t;
-static inline int fz_more(const fz_in_t *in) { return in->i < in->n; }
-static inline uint8_t fz_u8(fz_in_t *in) { return in->i < in->n ? in->p[in->i++] : 0; }
-static inline uint16_t fz_u16(fz_in_t *in) { uint16_t h = fz_u8(in); return (uint16_t)(h << 8 | fz_u8(in)); }
-static inline uint32_t fz_u32(fz_in_t *in) { uint32_t h = fz_u16(in); return h << 16 | fz_u16(in); }
 
 #endif

@@ -22,6 +22,14 @@ def pre(card):
     return ["run 5", "send 0 UWSC 2"] if card == "ssi" else []
 
 
+def frozen_mid_move(card):
+    """Axis 0 in speed mode at 40 Inc/SP with a slow <ed> (WAA 5) and a
+    tight <mf>, its encoder frozen after 300 ms: the following-error stop
+    brakes, and its runaway guard opens /EN."""
+    return pre(card) + ["send 0 WAA 5", "send 0 WMF 100", "send 0 INIT", "send 0 ME", "send 0 E", "run 20",
+                        "send 0 WVT 40", "send 0 MS", "send 0 E", "run 300", "fault 0 encoder frozen"]
+
+
 def run(lines, card):
     r = sim(BOOT + "\n".join(lines) + "\n", card)
     assert r.rc == 0, r.stderr
@@ -35,8 +43,7 @@ def test_c_while_the_following_error_stop_brakes_reports_once():
     sends C every tick gets 163 once - on the first C, which acknowledges
     it - and never again; the axis ends disabled with no error bit."""
     for card in ("inc", "ssi"):
-        lines = pre(card) + ["send 0 WAA 5", "send 0 WMF 100", "send 0 INIT", "send 0 ME", "send 0 E", "run 20",
-                             "send 0 WVT 40", "send 0 MS", "send 0 E", "run 300", "fault 0 encoder frozen"]
+        lines = frozen_mid_move(card)
         for _ in range(40):
             lines += ["send 0 C", "run 2.5"]
         lines += ["send 0 RBS", "send 0 ME", "run 5"]
@@ -127,8 +134,7 @@ def test_c_then_mre_while_the_following_error_stop_brakes_reports_once():
     joins the stop under way (its guards included); the error is not raised
     a second time when the guard opens /EN."""
     for card in ("inc", "ssi"):
-        lines = pre(card) + ["send 0 WAA 5", "send 0 WMF 100", "send 0 INIT", "send 0 ME", "send 0 E", "run 20",
-                             "send 0 WVT 40", "send 0 MS", "send 0 E", "run 300", "fault 0 encoder frozen"]
+        lines = frozen_mid_move(card)
         for _ in range(6):
             lines += ["send 0 RBS", "run 2.5"]
         lines += ["send 0 C", "send 0 MRE", "send 0 E"]
