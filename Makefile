@@ -5,6 +5,7 @@
 #   make test          every lane below, in this order (TEST_LANES); about 6 min on 2 cores
 #   make unit          cmocka unit tests of the firmware, native, ASan+UBSan
 #   make system        pytest: the EPROM images in the emulator (tests/system)
+#   make sanitize-short  the script reader's and scenarios' tests on the ASan+UBSan emulator
 #   make hardening     fuzz corpus replay, 68000-only check, cppcheck, qemu witness
 #   make board-check   the generated map files are what board/mac4.toml gives
 #   make docs-check    docs/commands.md is its table's; the files and names docs mention exist
@@ -16,7 +17,8 @@
 #   make native        build/mac4sim-native-CARD: the firmware compiled for the host
 #   make board         regenerate hal/mac4_map.h, harness/bus_map.h, host/mac4card/board.py
 #   make docs          regenerate docs/commands.md from firmware/commands.def
-#   make fuzz          libFuzzer on the native firmware (FUZZ_SECONDS=N; tests/fuzz/fuzz.mk)
+#   make fuzz          every fuzz target, native firmware and emulator (FUZZ_SECONDS=N; tests/fuzz/fuzz.mk)
+#   make sanitize      every system test on the ASan+UBSan emulator (build/san/mac4sim)
 #   make deps          install/fetch what the build needs (the others do it too)
 #   make clean         remove build/
 
@@ -149,7 +151,6 @@ sanitize: all $(B)/san/mac4sim
 	MAC4SIM=$(B)/san/mac4sim $(PYTHON) -m pytest -q tests/system
 sanitize-short: all $(B)/san/mac4sim
 	MAC4SIM=$(B)/san/mac4sim $(PYTHON) -m pytest -q tests/system/test_script_reader.py tests/system/test_scenarios.py
-test: sanitize-short
 
 # ---- the native builds: the firmware compiled for the host as the CPU -------
 # (harness/cpu_native.h).  Per card: the firmware, hal/native and the integer
@@ -225,7 +226,7 @@ include tests/unit/unit.mk
 # `make test`, defined here once: the lanes in order; the native/68000
 # agreement and the cycle deadlines last, so that a deadline the firmware
 # misses does not keep the other lanes from running
-TEST_LANES := unit system hardening board-check docs-check conformance debug-identical differential timing
+TEST_LANES := unit system sanitize-short hardening board-check docs-check conformance debug-identical differential timing
 test: all $(TEST_LANES)
 system: all
 	$(PYTHON) -m pytest -q tests/system
