@@ -16,6 +16,7 @@ equivalent change, or one no scenario can reach).
 
     tools/mutate.py                 every mutation (docs/hardening.md, "Mutation")
     tools/mutate.py -k servo        those whose name contains "servo"
+    tools/mutate.py -k stp,servo-sw those whose name contains either
     tools/mutate.py --list          the list only
 Run `make all native witness-bins` first.  Exit status 1 when a mutation
 without a stated reason survives, 2 on a usage or setup error.
@@ -53,16 +54,25 @@ MUTATIONS = [
     ("servo-e-limit", "firmware/servo.c", "divu16(1ul << 18, (uint16_t)ga)", "divu16(1ul << 17, (uint16_t)ga)",
      SERVO, None),
     # the profile generator (5.6)
-    ("profile-brake-compare", "firmware/profile.c", "return (lhs >> 1) >= rhs;", "return (lhs >> 1) > rhs;", ALL, None),
+    # the brake decision at equality: the inline 32-bit one every usual move
+    # takes (profile.h), and the 64-bit one behind it
+    ("profile-brake-compare", "firmware/profile.h", "            return l >= rl;", "            return l > rl;", ALL,
+     None),
+    ("profile-brake-compare64", "firmware/profile.c", "return (lhs >> 1) >= rhs;", "return (lhs >> 1) > rhs;", ALL,
+     "the 64-bit decision is taken only for rests of 2^16 units or more and speeds or ramps of 2^8 units/SP "
+     "or more, where no exact equality fits the lane's few hundred ticks; tests/unit/test_profile.c covers it"),
     ("profile-creep", "firmware/profile.c", "            if (v < dec)\n                v = dec;",
      "            if (v < dec)\n                v = dec + 1;", ALL, None),
     # the STP's rate stage (table 4.1) and ramps
-    ("stp-hz-round", "firmware/stepper.c", "(mulu16(rate, 25000u) + 0x4000u) >> 15", "(mulu16(rate, 25000u)) >> 15",
+    # (the rate path of the firmware is stepper.h's stp_load_rate and
+    # stp_hz_now; stepper.c's stp_rate_of and stp_hz_of are their reference
+    # for tests/unit/test_stepper.c only)
+    ("stp-hz-round", "firmware/stepper.h", "(mulu16(s->rate, 25000u) + 0x4000u) >> 15", "(mulu16(s->rate, 25000u)) >> 15",
      STP, None),
-    ("stp-rate-saturate", "firmware/stepper.c", "return 0xFFFFu;                          /* beyond 50 kHz",
-     "return 0xFFFEu;                          /* beyond 50 kHz", STP, None),
-    ("stp-ssf-brake", "firmware/stepper.c", "if (rem <= (uint32_t)ssf)", "if (rem < (uint32_t)ssf)", STP, None),
-    ("stp-turbo", "firmware/stepper.c", "return turbo ? hz * 10 : hz;", "return turbo ? hz * 9 : hz;", STP, None),
+    ("stp-rate-saturate", "firmware/stepper.h", "        s->rate = 0xFFFFu;", "        s->rate = 0xFFFEu;", STP, None),
+    ("stp-ssf-brake", "firmware/stepper.c", "if (rem <= (uint32_t)ssf)", "if (rem < (uint32_t)ssf)", STP,
+     "equivalent: at rem == ssf (u > ssf) the mutant asks prof_must_brake32(u, dec, 0), which is 1 as well"),
+    ("stp-turbo", "firmware/stepper.h", "        hz *= 10;", "        hz *= 9;", STP, None),
     # measurement paths (4.4)
     ("measure-ssi-shift", "firmware/measure.c", "v >>= PAR(n, SC);", "v >>= PAR(n, SC) + 1;", ("ssi",), None),
     ("measure-gray", "firmware/measure.c", "        if (axes[n].ustat & UB(GRAY))\n            v = gray_to_binary(v);",
@@ -149,11 +159,11 @@ def run_lane(tmp, lane, cards, log):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("-k", default="", help="only mutations whose name contains this")
+    ap.add_argument("-k", default="", help="only mutations whose name contains this (or one of these, comma-separated)")
     ap.add_argument("--list", action="store_true")
     ap.add_argument("--keep", action="store_true", help="keep the temporary tree (its path is printed)")
     a = ap.parse_args()
-    chosen = [m for m in MUTATIONS if a.k in m[0]]
+    chosen = [m for m in MUTATIONS if any(k in m[0] for k in a.k.split(","))]
     if a.list:
         for name, path, *_ in chosen:
             print("%-26s %s" % (name, path))

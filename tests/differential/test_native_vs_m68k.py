@@ -271,3 +271,46 @@ def test_the_protective_reactions_agree(card):
     assert not problems, "\n".join(problems)
     # the reactions happened: errors answered (163 logical error) on the axes
     assert sum(1 for e in m.events if e[1] == "resp" and e[2].split()[1] == "163") >= 3, m.events[-40:]
+
+
+def servo_exact(card="inc"):
+    """Scenarios that land on the compared values exactly (tools/mutate.py):
+    axis 0 a following error growing by less than a unit a tick past <mf>
+    (its encoder frozen under a slow move), axis 1 turned by hand to one
+    unit past its software limit, axis 2 against <sw> in the positive direction, axis 3
+    positioning where v^2 + v d = 2 d rem falls on a profile period (5.6:
+    the brake decision at equality), then a drive fault injected at a tick
+    boundary: both builds sample it in the same tick's supervision."""
+    s = [("send", 1, "UWLP", 100), ("ticks", 1)]
+    s += [("send", a, "INIT") for a in AXES] + [("ticks", 4)]
+    s += [("send", a, "ME") for a in AXES]
+    s += [("send", 0, "WMF", 40), ("send", 2, "WGA", 3000), ("send", 2, "WSW", 300)]
+    s += [("send", a, "E") for a in AXES] + [("ticks", 4)]
+    s += [("script", "fault 0 encoder frozen")]
+    for a, v, acc, t in ((0, 2, 1, 5000), (2, 200, 20, 3000), (3, 100, 10, 1100)):
+        s += [("send", a, "WPV", v), ("send", a, "WPA", acc), ("send", a, "WPD", acc), ("send", a, "WAP", t),
+              ("send", a, "MP"), ("send", a, "E")]
+    s += [("ticks", 120)] + reads() + [("ticks", 20)]
+    # the mechanics of axis 1 turned by hand to one unit past <lp>
+    s += [("script", "plant 1 pos 101"), ("ticks", 80)]
+    s += [("send", 3, "WAP", 2700), ("send", 3, "E"), ("ticks", 160)] + reads()
+    s += [("script", "fault 3 drive on"), ("ticks", 8), ("send", 3, "RBS"), ("send", 3, "E"), ("ticks", 8),
+          ("script", "fault 3 drive off"), ("ticks", 4)] + reads()
+    return s
+
+
+def test_exact_boundaries_agree():
+    m, n, problems = compare("inc", servo_exact())
+    assert not problems, "\n".join(problems)
+    # the reactions happened: following error (axes 0, 2), software limit, drive fault
+    import sys
+    sys.path.insert(0, os.path.join(os.path.dirname(M68K), "..", "host"))
+    from mac4card.dictionary import load_dictionary
+    d = load_dictionary(os.path.join(os.path.dirname(M68K), "commands.json"))
+    last = {}
+    for e in m.events:
+        f = e[2].split()
+        if e[1] == "resp" and f[1] == "125":           # RBS: the user status
+            last[int(f[0])] = d.decode_status("user", int(f[2], 16))["bits"]
+    for a, bit in ((0, "ferr_f"), (1, "swl_p"), (2, "ferr_f"), (3, "dr_f")):
+        assert bit in last[a], (a, last[a])
