@@ -299,8 +299,28 @@ def servo_exact(card="inc"):
     return s
 
 
-def test_exact_boundaries_agree():
-    m, n, problems = compare("inc", servo_exact())
+def stp_saturate():
+    """The STP's rate register at and beyond 50 kHz (table 4.1): velocity
+    tracking at 50 kHz on axis 0 (saturated: 400 steps a tick), 45 kHz on axis 1."""
+    s = [("send", a, "INIT") for a in (0, 1)] + [("ticks", 4)]
+    s += [("send", a, "ME") for a in (0, 1)] + [("ticks", 2)]
+    s += [("send", a, "E") for a in (0, 1)] + [("ticks", 4)]
+    s += [("send", 0, "WVT", 50000), ("send", 0, "VT"), ("send", 0, "E"),
+          ("send", 1, "WVT", 45000), ("send", 1, "VT"), ("send", 1, "E"), ("ticks", 16)]
+    s += reads((0, 1)) + [("send", a, "MB") for a in (0, 1)] + [("send", a, "E") for a in (0, 1)] + [("ticks", 30)]
+    return s
+
+
+def test_stp_rate_saturates_alike():
+    m, n, problems = compare("stp", stp_saturate())
+    assert not problems, "\n".join(problems)
+    rates = [int(m.ticks[t].split("|")[1].split()[0]) for t in sorted(m.ticks)]
+    assert 0xFFFF in rates, sorted(set(rates))[-5:]
+
+
+@pytest.mark.parametrize("card", ["inc"])
+def test_exact_boundaries_agree(card):
+    m, n, problems = compare(card, servo_exact(card))
     assert not problems, "\n".join(problems)
     # the reactions happened: following error (axes 0, 2), software limit, drive fault
     import sys
