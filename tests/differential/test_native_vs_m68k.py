@@ -318,6 +318,29 @@ def test_stp_rate_saturates_alike():
     assert 0xFFFF in rates, sorted(set(rates))[-5:]
 
 
+def brake_equality(card="inc"):
+    """Positionings at <pv> 100, <pa> = <pd> 10: braking must begin where
+    v^2 + v d = 2 d rem (5.6), i.e. 550 units before the target.  Moves of
+    2000 + 10 k units, k = 0..11, put every residue of the cruise's
+    100-unit grid on that point once."""
+    s = [("send", a, "INIT") for a in AXES] + [("ticks", 4)]
+    s += [("send", a, "ME") for a in AXES] + [("send", a, "E") for a in AXES] + [("ticks", 4)]
+    s += [("send", a, m, 100 if m == "WPV" else 10) for a in AXES for m in ("WPV", "WPA", "WPD")]
+    at = [0] * 4
+    for r in range(3):
+        for a in AXES:
+            at[a] += 2000 + 10 * (4 * r + a)
+            s += [("send", a, "WAP", at[a]), ("send", a, "MP"), ("send", a, "E")]
+        s += [("ticks", 170)]
+    return s + reads()
+
+
+@pytest.mark.parametrize("card", ["inc"])
+def test_brake_decision_at_equality_agrees(card):
+    m, n, problems = compare(card, brake_equality(card))
+    assert not problems, "\n".join(problems)
+
+
 @pytest.mark.parametrize("card", ["inc"])
 def test_exact_boundaries_agree(card):
     m, n, problems = compare(card, servo_exact(card))
