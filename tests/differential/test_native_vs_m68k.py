@@ -198,8 +198,8 @@ def servo_protect(card, at=0):
     """The protective reactions: following error (axis 0, a small <mf>),
     software limit (axis 1), a limit switch (axis 2), then /STOP for all and
     the watchdog <wd>.  (A drive fault is an input the main loop samples
-    between ticks, so the two builds see it at different ticks: the fault
-    matrix of tests/system/test_faults.py covers it.)"""
+    between ticks: servo_exact injects it at a tick's expiry, with the axis
+    at rest, where both builds see it in the same tick.)"""
     s = []
     if card == "ssi":
         s += [("send", a, "UWSC", 2) for a in AXES] + [("ticks", 2)]
