@@ -59,8 +59,9 @@ MUTATIONS = [
     ("profile-brake-compare", "firmware/profile.h", "            return l >= rl;", "            return l > rl;", ALL,
      None),
     ("profile-brake-compare64", "firmware/profile.c", "return (lhs >> 1) >= rhs;", "return (lhs >> 1) > rhs;", ALL,
-     "the 64-bit decision is taken only for rests of 2^16 units or more and speeds or ramps of 2^8 units/SP "
-     "or more, where no exact equality fits the lane's few hundred ticks; tests/unit/test_profile.c covers it"),
+     "the 64-bit decision serves moves that do not fit 32 bits (rests of 2^16 units or more, speeds of 2^14 "
+     "units/SP or more: prof_fits32) and the STP's 64-bit path; no equality there fits the lane's few hundred "
+     "ticks; tests/unit/test_profile.c compares it with the 32-bit one"),
     ("profile-creep", "firmware/profile.c", "            if (v < dec)\n                v = dec;",
      "            if (v < dec)\n                v = dec + 1;", ALL, None),
     # the STP's rate stage (table 4.1) and ramps
