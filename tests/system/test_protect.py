@@ -30,6 +30,13 @@ def frozen_mid_move(card):
                         "send 0 WVT 40", "send 0 MS", "send 0 E", "run 300", "fault 0 encoder frozen"]
 
 
+def c_every_tick(lines, card):
+    """The script, then a C every tick for 40 ticks, an RBS and ME: the
+    card's responses (the last 42 those of the C's, the RBS and the ME)."""
+    lines = lines + ["send 0 C", "run 2.5"] * 40 + ["send 0 RBS", "send 0 ME", "run 5"]
+    return run(lines, card).resps()
+
+
 def run(lines, card):
     r = sim(BOOT + "\n".join(lines) + "\n", card)
     assert r.rc == 0, r.stderr
@@ -44,11 +51,7 @@ def test_c_while_the_following_error_stop_brakes_reports_once():
     it - and never again; the axis ends disabled with no error bit."""
     for card in ("inc", "ssi"):
         lines = frozen_mid_move(card)
-        for _ in range(40):
-            lines += ["send 0 C", "run 2.5"]
-        lines += ["send 0 RBS", "send 0 ME", "run 5"]
-        r = run(lines, card)
-        got = r.resps()
+        got = c_every_tick(lines, card)
         cs = [c for _, c, _ in got[-42:-2]]
         assert cs.count(163) == 1 and set(cs) == {4, 163}, (card, cs)
         first = cs.index(163)
@@ -138,11 +141,7 @@ def test_c_then_mre_while_the_following_error_stop_brakes_reports_once():
         for _ in range(6):
             lines += ["send 0 RBS", "run 2.5"]
         lines += ["send 0 C", "send 0 MRE", "send 0 E"]
-        for _ in range(40):
-            lines += ["send 0 C", "run 2.5"]
-        lines += ["send 0 RBS", "send 0 ME", "run 5"]
-        r = run(lines, card)
-        got = r.resps()
+        got = c_every_tick(lines, card)
         polls = [p for _, c, p in got[-51:-45]]
         assert any(p & ub("ferr_f") for p in polls), (card, [hex(p) for p in polls])   # raised by then
         tail = [c for _, c, _ in got[-45:]]
