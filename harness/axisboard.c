@@ -118,7 +118,7 @@ const axis_led_t axis_leds[AXIS_NLEDS] = {
 
 unsigned axisboard_leds(sim_t *s, int n)
 {
-    uint16_t reg = (uint16_t)(s->leds >> SYS_LED_SHIFT(n));
+    uint16_t reg = (uint16_t)(s->sys.leds >> SYS_LED_SHIFT(n));
     uint16_t in = plant_inputs_word(s, n, sim_now(s));
     unsigned lit = 0;
     for (unsigned i = 0; i < AXIS_NLEDS; i++)

@@ -249,8 +249,8 @@ int main(int argc, char **argv)
     /* the card stopped with an error: a boot step (2., 3.) or F. (firmware/boot.c) */
     if (card.faults && !allow_faults)
         return 3;
-    if ((card.display & SYS_DISPLAY_DP) && card.display != 0xFF && !allow_faults) {
-        fprintf(stderr, "mac4sim: the card stopped with the display at %X.\n", card.display & 0xF);
+    if ((card.sys.display & SYS_DISPLAY_DP) && card.sys.display != 0xFF && !allow_faults) {
+        fprintf(stderr, "mac4sim: the card stopped with the display at %X.\n", card.sys.display & 0xF);
         return 4;
     }
     if (script_waits_timed_out) {

@@ -111,16 +111,16 @@ static void track_display(sim_t *s)
         ndlog = 0;
         last_display = 0xFFFF;
     }
-    if (s->display == last_display)
+    if (s->sys.display == last_display)
         return;
-    last_display = s->display;
-    if (s->display == 0xFF)
+    last_display = s->sys.display;
+    if (s->sys.display == 0xFF)
         return;                     /* blank after reset */
     if (ndlog == NLOG) {
         memmove(dlog[0], dlog[1], sizeof dlog - sizeof dlog[0]);
         ndlog--;
     }
-    snprintf(dlog[ndlog++], sizeof dlog[0], "%X%s", s->display & 0xF, (s->display & SYS_DISPLAY_DP) ? "." : "");
+    snprintf(dlog[ndlog++], sizeof dlog[0], "%X%s", s->sys.display & 0xF, (s->sys.display & SYS_DISPLAY_DP) ? "." : "");
 }
 
 static size_t state_json(sim_t *s, char *b, size_t cap)
@@ -130,12 +130,12 @@ static size_t state_json(sim_t *s, char *b, size_t cap)
 #define OUT(...) k += (size_t)snprintf(b + k, k < cap ? cap - k : 0, __VA_ARGS__)
     OUT("{\"card\":\"%s\",\"t_ms\":%.3f,\"resets\":%llu,", cardname[s->card % 3], (double)sim_now(s) / 16000.0,
         (unsigned long long)s->resets);
-    OUT("\"display\":{\"digit\":%u,\"dp\":%s,\"blank\":%s},", s->display & 0xFu,
-        (s->display & SYS_DISPLAY_DP) && s->display != 0xFF ? "true" : "false", s->display == 0xFF ? "true" : "false");
+    OUT("\"display\":{\"digit\":%u,\"dp\":%s,\"blank\":%s},", s->sys.display & 0xFu,
+        (s->sys.display & SYS_DISPLAY_DP) && s->sys.display != 0xFF ? "true" : "false", s->sys.display == 0xFF ? "true" : "false");
     OUT("\"display_log\":[");
     for (unsigned i = 0; i < ndlog; i++)
         OUT("%s\"%s\"", i ? "," : "", dlog[i]);
-    OUT("],\"stop\":%s,\"led_names\":[", s->estop ? "true" : "false");
+    OUT("],\"stop\":%s,\"led_names\":[", s->sys.estop ? "true" : "false");
     for (unsigned i = 0; i < AXIS_NLEDS; i++)
         OUT("%s\"%s\"", i ? "," : "", axis_leds[i].name);
     OUT("],\"axes\":[");
@@ -231,7 +231,7 @@ static cyc_t tap_execute(sim_t *s, cyc_t max)
     }
     if (want_stop) {                /* as the script's `estop on|off` */
         want_stop = 0;
-        estop_set(s, !s->estop);
+        estop_set(s, !s->sys.estop);
         sim_update_irq(s);
     }
     if (want_reset) {               /* as the script's `reset`; the scheduler looks again */

@@ -122,7 +122,7 @@ void plant_params_defaults(sim_t *s, int n)
 /* ======================================================================== */
 static int drive_enabled(sim_t *s, int n)
 {
-    return (s->ax[n].ctrl & AX_CTRL_EN) && !s->estop && !s->plant.ax[n].drive_fault;
+    return (s->ax[n].ctrl & AX_CTRL_EN) && !s->sys.estop && !s->plant.ax[n].drive_fault;
 }
 
 static double dac_volts(sim_t *s, int n) { return (double)s->ax[n].dac * (10.0 / 2048.0); }

@@ -220,7 +220,7 @@ int script_line(script_t *sc, sim_t *s, char *line)
             (n == 3 && script_parse_ms(tok[2], &limit)))
             return script_err(sc, "usage: %s DIGIT [MS] (digit 0..15, decimal ms 0..3600000)", c);
         for (waited = 0;; waited += US_TO_CYC(100)) {
-            if ((s->display & 0xF) == want && !(s->display & SYS_DISPLAY_DP))
+            if ((s->sys.display & 0xF) == want && !(s->sys.display & SYS_DISPLAY_DP))
                 return 0;
             if (waited >= limit)
                 break;
@@ -298,15 +298,15 @@ int script_line(script_t *sc, sim_t *s, char *line)
     if (!strcmp(c, "status")) {
         cyc_t now = sim_now(s);
         sim_printf(s, "status time=%.3fms cycles=%llu display=%X%s faults=%llu resets=%llu\n",
-                   (double)now / 16000.0, (unsigned long long)now, s->display & 0xF,
-                   (s->display & SYS_DISPLAY_DP) ? "." : "", (unsigned long long)s->faults,
+                   (double)now / 16000.0, (unsigned long long)now, s->sys.display & 0xF,
+                   (s->sys.display & SYS_DISPLAY_DP) ? "." : "", (unsigned long long)s->faults,
                    (unsigned long long)s->resets);
         return 0;
     }
     if (!strcmp(c, "outputs")) {
         for (int a = 0; a < MAC4_NAXES; a++)
             sim_printf(s, "output %d en=%d dac=%d rate=%u dir=%d boost=%d\n", a,
-                       (s->ax[a].ctrl & AX_CTRL_EN) && !s->estop, s->ax[a].dac, s->ax[a].rate,
+                       (s->ax[a].ctrl & AX_CTRL_EN) && !s->sys.estop, s->ax[a].dac, s->ax[a].rate,
                        !!(s->ax[a].ctrl & AX_CTRL_DIR), !!(s->ax[a].ctrl & AX_CTRL_BOOST));
         return 0;
     }
@@ -315,7 +315,7 @@ int script_line(script_t *sc, sim_t *s, char *line)
          * (2.5.3): D, P, F from the register, the limit and reference LEDs
          * from the input levels (lit at 0 V: AX_IN bit set), as in hardware */
         char buf[160];
-        int k = snprintf(buf, sizeof buf, "leds 0x%04X stop=%d", s->leds, s->estop);
+        int k = snprintf(buf, sizeof buf, "leds 0x%04X stop=%d", s->sys.leds, s->sys.estop);
         for (int a = 0; a < 4; a++) {
             unsigned lit = axisboard_leds(s, a);
             k += snprintf(buf + k, sizeof buf - (size_t)k, " %d=", a);
@@ -347,7 +347,7 @@ int script_line(script_t *sc, sim_t *s, char *line)
     if (!strcmp(c, "fc")) {
         if (n != 2 || script_parse_num(tok[1], &v) || v < 0 || v > 7)
             return script_err(sc, "usage: %s 0..7", c);
-        s->fc = (uint8_t)v;
+        s->sys.fc = (uint8_t)v;
         return 0;
     }
     if (!strcmp(c, "jumper")) {

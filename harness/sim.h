@@ -12,7 +12,6 @@
 #include <stdint.h>
 #include <stdio.h>
 #include "mac4_map.h"
-#include "plant.h"   /* plant models behind the axis boards (added for harness/plant.c) */
 
 typedef uint64_t cyc_t;
 #define CYC_NEVER UINT64_MAX
@@ -20,6 +19,14 @@ typedef uint64_t cyc_t;
 #define MS_TO_CYC(ms) ((cyc_t)(ms) * 1000u * MAC4_CYCLES_PER_US)
 /* 4800 baud, 8N1: 10 bit times per character. */
 #define UART_CHAR_CYC ((cyc_t)(MAC4_CPU_HZ * 10u / UART_BAUD))
+
+/* the devices' states, each declared by its device (periph.c's table) */
+#include "sysctl.h"
+#include "timer.h"
+#include "uart.h"
+#include "virq.h"
+#include "axisboard.h"
+#include "plant.h"     /* what is wired to the axis boards */
 
 /* Interrupt sources, for the accounting table. */
 enum { SRC_UART, SRC_AXIS, SRC_TIMER, SRC_ESTOP, SRC_OTHER, SRC_COUNT };
@@ -54,60 +61,6 @@ enum {
     SIG_COUNT
 };
 
-typedef struct {
-    uint16_t period_us, ctrl, status;
-    cyc_t next;                    /* next expiry, CYC_NEVER when stopped */
-    cyc_t last;                    /* last expiry (TMR_COUNT) */
-    cyc_t irq_at;                  /* TMR_CTRL_SSI_WAIT: the request waits for the SSI reads until then */
-} tmr_t;
-
-#define UART_WIRE_SIZE 8192
-typedef struct {
-    uint16_t ctrl;
-    uint8_t rx_hold;               /* receive holding register */
-    int rx_full, overrun, framing;
-    uint8_t wire[UART_WIRE_SIZE];  /* bytes on the line towards the card */
-    unsigned wire_head, wire_tail;
-    cyc_t rx_done;                 /* when the character on the wire is complete */
-    int tx_busy;
-    cyc_t tx_done;
-    uint8_t tx_shift;
-    void (*on_tx)(void *ctx, uint8_t byte);
-    void *tx_ctx;
-} uart_t;
-
-typedef struct {
-    uint8_t level;                 /* from LB1/LB2, table 2.1 */
-    int pending;
-    uint8_t vector;
-    cyc_t iack_at;
-    uint16_t page;
-    int berr;
-} vme_t;
-
-typedef struct {
-    int j11;                       /* jumper J11 in: the watchdog may reset the card */
-    cyc_t deadline;
-    int reset_pending;
-} wdg_t;
-
-typedef struct {
-    uint32_t counter;              /* 24-bit position counter */
-    uint16_t cnt_lo_latch;
-    uint32_t idx_latch;
-    uint16_t idx_lo_latch;
-    int idx_latched;
-    uint16_t in;                   /* switch inputs, AX_IN_* */
-    uint16_t ctrl;
-    int16_t dac;
-    uint16_t rate;
-    uint32_t ssi;                  /* last SSI shift register */
-    int gray;                      /* SSI jumper J1 open */
-    /* ---- added for the plant models (harness/plant.c, docs/plant.md) ---- */
-    uint16_t pstat;                /* STP: AX_IN_PULSE, AX_IN_PULSE_OVR, AX_IN_PDONE */
-    /* ---- end of plant additions ---- */
-} axis_hw_t;
-
 typedef struct sim {
     int card;                      /* MAC4_CARD_* */
     uint8_t dpram[DPRAM_SIZE];
@@ -115,19 +68,21 @@ typedef struct sim {
     uint8_t sram[SRAM_SIZE];
     uint32_t sram_fault_addr;      /* fault injection: bits stuck at 1 in this word */
     uint16_t sram_fault_mask;
-    uint16_t display, leds, sysctl;
-    int estop;                     /* /STOP active */
-    uint8_t fc;                    /* FC0-2 inputs */
-    tmr_t tmr;
-    uart_t uart;
-    vme_t vme;
-    wdg_t wdg;
-    axis_hw_t ax[MAC4_NAXES];
+    uint16_t sysctl;               /* SYS_CTRL: its boot overlay bit is the line the address decoder reads */
     sim_sig_t sig[SIG_COUNT];      /* the wires between the devices (periph_connect) */
-    /* ---- added: the plant models behind the axis boards (harness/plant.c) ---- */
-    plant_t plant;
-    /* ---- end of plant additions ---- */
-    uint16_t free_lo_latch;
+
+    /* ---- the devices' states (periph.c's table).  Each type is declared in
+     * its device's header and written by its device's file (the script and
+     * the tools set jumpers and inputs between runs); they are stored here,
+     * by value, so that a copy of sim_t is a snapshot of the whole card
+     * (the fuzz targets' fast boot). ---- */
+    sys_t sys;                     /* sysctl.c: display, LEDs, /STOP, FC inputs */
+    wdg_t wdg;                     /* sysctl.c: the watchdog */
+    tmr_t tmr;                     /* timer.c */
+    uart_t uart;                   /* uart.c */
+    vme_t vme;                     /* virq.c */
+    axis_hw_t ax[MAC4_NAXES];      /* axisboard.c: the axis interface boards */
+    plant_t plant;                 /* plant.c: what is wired to them */
 
     cyc_t slice_base;              /* cycle count at the start of the CPU slice */
     cyc_t (*cpu_elapsed)(void);    /* cycles into the current slice */

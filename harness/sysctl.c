@@ -7,15 +7,13 @@
 #include "periph.h"
 #include "buswait.h"
 
-static int estop_edge;   /* /STOP is wired to the edge-triggered level 7 (NMI) */
-
 /* ---- system control ------------------------------------------------------ */
 static void display_show(sim_t *s, uint16_t v)
 {
     v &= 0x1F;
-    if (v == s->display)
+    if (v == s->sys.display)
         return;
-    s->display = v;
+    s->sys.display = v;
     buswait_mark(sim_now(s));      /* `bus-stats display`: the counts at this write */
     sim_printf(s, "display %X%s\n", v & 0xF, (v & SYS_DISPLAY_DP) ? "." : "");
     if (s->on_display)
@@ -26,11 +24,11 @@ uint32_t sys_rd(sim_t *s, uint32_t off, int size)
 {
     (void)size;
     switch (off) {
-    case 0x0: return s->display;
-    case 0x2: return s->leds;
+    case 0x0: return s->sys.display;
+    case 0x2: return s->sys.leds;
     case 0x4: return s->sysctl;
     case 0x6:
-        return (uint32_t)((s->estop ? SYS_ST_STOP : 0) | ((s->fc & 7u) << SYS_ST_FC_SHIFT) |
+        return (uint32_t)((s->sys.estop ? SYS_ST_STOP : 0) | ((s->sys.fc & 7u) << SYS_ST_FC_SHIFT) |
                           (s->wdg.j11 ? SYS_ST_J11 : 0) | (s->in_reset_by_wdg ? SYS_ST_WDG_RESET : 0) |
                           ((unsigned)(s->vme.level & 7u) << SYS_ST_LEVEL_SHIFT));
     case 0x8: return (uint32_t)s->card;
@@ -44,7 +42,7 @@ void sys_wr(sim_t *s, uint32_t off, uint32_t v, int size)
     (void)size;
     switch (off) {
     case 0x0: display_show(s, (uint16_t)v); return;
-    case 0x2: s->leds = (uint16_t)v; return;
+    case 0x2: s->sys.leds = (uint16_t)v; return;
     case 0x4: s->sysctl = (uint16_t)(v & SYS_CTRL_OVERLAY); return;
     }
     sim_fault(s, "write to read-only or undefined system register +$%X", (unsigned)off);
@@ -70,18 +68,18 @@ void wdg_wr(sim_t *s, uint32_t off, uint32_t v, int size)
 /* ---- emergency stop ------------------------------------------------------ */
 void estop_set(sim_t *s, int active)
 {
-    if (active && !s->estop)
-        estop_edge = 1;
-    s->estop = active;
+    if (active && !s->sys.estop)
+        s->sys.estop_edge = 1;
+    s->sys.estop = active;
 }
-int estop_irq_pending(sim_t *s) { (void)s; return estop_edge; }
-void estop_irq_ack(sim_t *s) { (void)s; estop_edge = 0; }
+int estop_irq_pending(sim_t *s) { return s->sys.estop_edge; }
+void estop_irq_ack(sim_t *s) { s->sys.estop_edge = 0; }
 
 /* ---- the devices ---------------------------------------------------------- */
 static void sys_reset(sim_t *s)
 {
-    s->display = 0xFF;     /* blank until the firmware writes */
-    s->leds = 0;
+    s->sys.display = 0xFF;     /* blank until the firmware writes */
+    s->sys.leds = 0;
     s->sysctl = SYS_CTRL_OVERLAY;
 }
 
@@ -99,9 +97,9 @@ static void wdg_event(sim_t *s, cyc_t now)
         s->wdg.reset_pending = 1;
 }
 
-static void estop_reset(sim_t *s) { estop_edge = s->estop; }   /* an active /STOP at reset is seen at once */
+static void estop_reset(sim_t *s) { s->sys.estop_edge = s->sys.estop; }   /* an active /STOP at reset is seen at once */
 
-static unsigned estop_irq_lines(sim_t *s) { (void)s; return estop_edge ? 1u << IRQ_LEVEL_ESTOP : 0; }
+static unsigned estop_irq_lines(sim_t *s) { return s->sys.estop_edge ? 1u << IRQ_LEVEL_ESTOP : 0; }
 
 const device_t sys_device = {"sys", sys_reset, NULL, NULL, NULL};
 const device_t wdg_device = {"watchdog", wdg_reset, wdg_next_event, wdg_event, NULL};

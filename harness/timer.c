@@ -20,10 +20,10 @@ uint32_t tmr_rd(sim_t *s, uint32_t off, int size)
     case 0x6: return (uint32_t)((now - s->tmr.last) / MAC4_CYCLES_PER_US) & 0xFFFF;
     case 0x8: {
         uint32_t us = (uint32_t)(now / MAC4_CYCLES_PER_US);
-        s->free_lo_latch = (uint16_t)us;
+        s->tmr.free_lo_latch = (uint16_t)us;
         return us >> 16;
     }
-    case 0xA: return s->free_lo_latch;
+    case 0xA: return s->tmr.free_lo_latch;
     }
     sim_fault(s, "read of undefined timer register +$%X", (unsigned)off);
     return 0xFFFF;

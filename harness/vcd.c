@@ -308,7 +308,7 @@ void vcd_pulses(sim_t *s, int n, cyc_t nco_t0, uint32_t acc0, uint64_t c)
     int d = (a->ctrl & AX_CTRL_DIR) ? 1 : -1;
     cyc_t P = plant_nco_period(s, n);
     cyc_t wid = P / 2 ? P / 2 : 1;
-    int en = (a->ctrl & AX_CTRL_EN) && !s->estop && !p->drive_fault;
+    int en = (a->ctrl & AX_CTRL_EN) && !s->sys.estop && !p->drive_fault;
     int64_t gen0 = p->gen - d * (int64_t)c;
     int64_t rot0 = p->cmd + p->off - (en ? d * (int64_t)c : 0);
     if (c > 1000000)
@@ -371,10 +371,10 @@ static void registers(vcd_t *v, sim_t *s, uint64_t t, cyc_t now)
     look(v, t, S_IRQ6, (lines >> IRQ_LEVEL_TIMER) & 1u);
     look(v, t, S_IRQ7, (lines >> IRQ_LEVEL_ESTOP) & 1u);
     look(v, t, S_IPL, (uint32_t)sim_irq_level(s));
-    look(v, t, S_DIGIT, s->display & 0xFu);
-    look(v, t, S_DP, !!(s->display & SYS_DISPLAY_DP));
-    look(v, t, S_LEDS, s->leds);
-    look(v, t, S_STOP, (uint32_t)!!s->estop);
+    look(v, t, S_DIGIT, s->sys.display & 0xFu);
+    look(v, t, S_DP, !!(s->sys.display & SYS_DISPLAY_DP));
+    look(v, t, S_LEDS, s->sys.leds);
+    look(v, t, S_STOP, (uint32_t)!!s->sys.estop);
     uart_t *u = &s->uart;
     if (u->tx_busy && u->tx_done != v->tx_done) {
         v->tx_done = u->tx_done;
@@ -389,7 +389,7 @@ static void registers(vcd_t *v, sim_t *s, uint64_t t, cyc_t now)
         plant_axis_t *p = &s->plant.ax[n];
         look(v, t, AXS(n, A_DAC), (uint32_t)(uint16_t)a->dac);
         look(v, t, AXS(n, A_RATE), a->rate);
-        look(v, t, AXS(n, A_EN_N), (uint32_t)!((a->ctrl & AX_CTRL_EN) && !s->estop));
+        look(v, t, AXS(n, A_EN_N), (uint32_t)!((a->ctrl & AX_CTRL_EN) && !s->sys.estop));
         look(v, t, AXS(n, A_DIR), !!(a->ctrl & AX_CTRL_DIR));
         look(v, t, AXS(n, A_BOOST), !!(a->ctrl & AX_CTRL_BOOST));
         look(v, t, AXS(n, A_DF), (uint32_t)!(p->drive_fault ^ p->df_high));

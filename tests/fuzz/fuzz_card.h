@@ -98,7 +98,7 @@ static inline void fz_fail(const char *file, int line, const char *fmt, ...)
     }
     fflush(fz_log_f);
     fprintf(stderr, "\nPROPERTY VIOLATED (%s:%d): %s\ncard display %X, last events:\n%s\n", file, line, msg,
-            S.display, fz_log);
+            S.sys.display, fz_log);
     if (known)
         fprintf(stderr, "(the card's state shows the trigger of known bug %s)\n", known);
     abort();
@@ -156,7 +156,7 @@ static inline void fz_boot_firmware(void)
     fw_init();
     fz_boot_phase = 0;
     fz_check_card("boot");
-    FZ_CHECK(S.display == 5, "card did not reach display 5 at boot");
+    FZ_CHECK(S.sys.display == 5, "card did not reach display 5 at boot");
 }
 
 static void (*fz_on_reset)(void);  /* the target's bookkeeping after a watchdog reset */

@@ -65,8 +65,8 @@ static void check_card(const char *when)
 {
     FZ_CHECK(S.faults == 0, "the emulator saw a fault %s", when);
     FZ_CHECK(!sim_halted, "the 68000 halted %s", when);
-    FZ_CHECK(!((S.display & SYS_DISPLAY_DP) && S.display != 0xFF), "the card stopped at %X. %s",
-             S.display & 0xF, when);
+    FZ_CHECK(!((S.sys.display & SYS_DISPLAY_DP) && S.sys.display != 0xFF), "the card stopped at %X. %s",
+             S.sys.display & 0xF, when);
 }
 
 static void pass(void)
@@ -97,7 +97,7 @@ static void repair(uint32_t q)
 static int ask_ver(uint32_t *answer)
 {
     S.host_reads = 0;
-    for (int ms = 0; ms < 2000 && S.display != 5; ms++)   /* after a watchdog reset: the boot */
+    for (int ms = 0; ms < 2000 && S.sys.display != 5; ms++)   /* after a watchdog reset: the boot */
         sim_run(&S, MS_TO_CYC(1));
     repair(DP_CMD_QUEUE);
     repair(DP_RSP_QUEUE);
@@ -136,9 +136,9 @@ static void boot(int card)
     S.out = fz_null_out();
     memcpy(S.eprom, img, n);
     sim_attach_cpu(&S, &cpu_m68k);
-    for (int ms = 0; ms < 2000 && S.display != 5; ms++)
+    for (int ms = 0; ms < 2000 && S.sys.display != 5; ms++)
         sim_run(&S, MS_TO_CYC(1));
-    FZ_CHECK(S.display == 5 && S.faults == 0, "the build's image did not boot");
+    FZ_CHECK(S.sys.display == 5 && S.faults == 0, "the build's image did not boot");
     sim_run(&S, MS_TO_CYC(5));
     booted[card] = S;
     cpu_ctx[card] = malloc(m68k_context_size());

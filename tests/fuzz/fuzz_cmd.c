@@ -147,7 +147,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         case 11: {
             uint8_t b = fz_u8(&in);
             S.wdg.j11 = b & 1;
-            S.fc = (uint8_t)((b >> 1) & 7u);
+            S.sys.fc = (uint8_t)((b >> 1) & 7u);
             S.ax[(b >> 4) & 3u].gray = (b >> 6) & 1;
             break;
         }

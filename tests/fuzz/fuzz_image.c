@@ -101,13 +101,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     for (int ms = 0; ms < 700; ms++) {
         sim_run(&S, MS_TO_CYC(1));
         if (changed)
-            FZ_CHECK(S.display != 5, "a changed image got the card ready (display 5 after %d ms)", ms);
-        if ((S.display & SYS_DISPLAY_DP) && S.display != 0xFF)
+            FZ_CHECK(S.sys.display != 5, "a changed image got the card ready (display 5 after %d ms)", ms);
+        if ((S.sys.display & SYS_DISPLAY_DP) && S.sys.display != 0xFF)
             break;                        /* stopped with an error */
-        if (!changed && S.display == 5)
+        if (!changed && S.sys.display == 5)
             break;
     }
     if (same)
-        FZ_CHECK(S.display == 5 && S.faults == 0, "the build's image did not boot (display %X)", S.display);
+        FZ_CHECK(S.sys.display == 5 && S.faults == 0, "the build's image did not boot (display %X)", S.sys.display);
     return 0;
 }
