@@ -12,7 +12,7 @@
 #include "plant.h"
 
 /* ---- axis interface board ------------------------------------------------ */
-uint32_t axis_rd(sim_t *s, uint32_t off, int size)
+static uint32_t axis_rd(sim_t *s, uint32_t off, int size)
 {
     (void)size;
     int n = (int)(off / AXIS_STRIDE);
@@ -48,7 +48,7 @@ uint32_t axis_rd(sim_t *s, uint32_t off, int size)
 
 #define AX_CTRL_W_ONLY (AX_CTRL_IDX_ARM | AX_CTRL_CNT_CLR | AX_CTRL_PULSE_ACK | AX_CTRL_DONE_ACK)
 
-void axis_wr(sim_t *s, uint32_t off, uint32_t v, int size)
+static void axis_wr(sim_t *s, uint32_t off, uint32_t v, int size)
 {
     (void)size;
     int n = (int)(off / AXIS_STRIDE);
@@ -86,7 +86,7 @@ void axis_wr(sim_t *s, uint32_t off, uint32_t v, int size)
     sim_fault(s, "write to undefined axis register +$%X", (unsigned)(off % AXIS_STRIDE));
 }
 
-uint32_t axis_irq_rd(sim_t *s, uint32_t off, int size)
+static uint32_t axis_irq_rd(sim_t *s, uint32_t off, int size)
 {
     (void)off;
     (void)size;
@@ -103,7 +103,7 @@ uint32_t axis_irq_rd(sim_t *s, uint32_t off, int size)
     return p;
 }
 
-void axis_irq_wr(sim_t *s, uint32_t off, uint32_t v, int size)
+static void axis_irq_wr(sim_t *s, uint32_t off, uint32_t v, int size)
 {
     (void)off;
     (void)v;
@@ -155,5 +155,7 @@ static void axisboard_tmr_expired(sim_t *s, uint64_t at)
 
 void axisboard_connect(sim_t *s) { sig_connect(s, SIG_TMR_EXPIRED, axisboard_tmr_expired); }
 
-const device_t axisboard_device = {"axis", axisboard_reset, axisboard_next_event, axisboard_events,
-                                   axisboard_irq_lines};
+/* window 0: the four boards' registers (AX_REG), window 1: AXIS_IRQ_PENDING */
+const device_t axisboard_device = {.name = "axis", .win = {{axis_rd, axis_wr}, {axis_irq_rd, axis_irq_wr}},
+                                   .reset = axisboard_reset, .next_event = axisboard_next_event,
+                                   .events = axisboard_events, .irq_lines = axisboard_irq_lines};

@@ -1,6 +1,7 @@
 /*
- * bus.c - the IPC's local bus as a table of regions (MAME-style address
- * map), its rows generated from the board description (bus_map.h).  68000 long accesses are two word cycles, high word first, as on
+ * bus.c - the IPC's local bus as a table of address ranges, each answered
+ * by a device and one of its register windows (a MAME-style address map),
+ * its rows generated from the board description (bus_map.h).  68000 long accesses are two word cycles, high word first, as on
  * the card's 16-bit bus.  Accesses outside every region, writes to the
  * EPROM and byte writes to word-wide I/O registers are faults: reported
  * with the PC, never ignored.
@@ -64,11 +65,18 @@ static uint32_t sram_rd(sim_t *s, uint32_t a, int size)
 }
 static void sram_wr(sim_t *s, uint32_t a, uint32_t v, int size) { mem_wr(s->sram, a, v, size); }
 
+/* The memories: devices with one window and nothing else. */
+const device_t dpram_device = {.name = "dpram", .win = {{dpram_rd, dpram_wr}}};
+const device_t eprom_device = {.name = "eprom", .win = {{eprom_rd, eprom_wr}}};
+const device_t sram_device = {.name = "sram", .win = {{sram_rd, sram_wr}}};
+
+/* A row of the bus table: an address range, the device that answers there
+ * and which of its register windows. */
 typedef struct {
     uint32_t start, size;
     const char *name;
-    uint32_t (*rd)(sim_t *, uint32_t off, int size);            /* size 1 or 2 */
-    void (*wr)(sim_t *, uint32_t off, uint32_t v, int size);
+    const device_t *dev;
+    int win;
     int word_io;                                                /* no byte writes */
 } region_t;
 
@@ -93,10 +101,11 @@ static uint32_t rd1(sim_t *s, uint32_t addr, int size)
         return size == 1 ? 0xFF : 0xFFFF;
     }
     uint32_t off = addr - r->start;
+    const dev_window_t *w0 = &r->dev->win[r->win];
     if (!r->word_io)
-        return r->rd(s, off, size);
+        return w0->rd(s, off, size);
     /* I/O: a read may clear a flag (UART data, status), so re-evaluate IPL */
-    uint32_t w = r->rd(s, off & ~1u, 2);
+    uint32_t w = w0->rd(s, off & ~1u, 2);
     sim_update_irq(s);
     if (size == 1)   /* byte read of a word register */
         return (off & 1) ? (w & 0xFF) : (w >> 8);
@@ -114,7 +123,7 @@ static void wr1(sim_t *s, uint32_t addr, uint32_t v, int size)
         sim_fault(s, "byte write to word register at $%06X", (unsigned)addr);
         return;
     }
-    r->wr(s, addr - r->start, v, size);
+    r->dev->win[r->win].wr(s, addr - r->start, v, size);
     if (r->word_io)
         sim_update_irq(s);
 }

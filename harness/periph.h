@@ -4,29 +4,24 @@
 #define PERIPH_H
 #include "sim.h"
 
-uint32_t sys_rd(sim_t *s, uint32_t off, int size);
-void sys_wr(sim_t *s, uint32_t off, uint32_t v, int size);
-uint32_t tmr_rd(sim_t *s, uint32_t off, int size);
-void tmr_wr(sim_t *s, uint32_t off, uint32_t v, int size);
-uint32_t uart_rd(sim_t *s, uint32_t off, int size);
-void uart_wr(sim_t *s, uint32_t off, uint32_t v, int size);
-uint32_t virq_rd(sim_t *s, uint32_t off, int size);
-void virq_wr(sim_t *s, uint32_t off, uint32_t v, int size);
-uint32_t vme_win_rd(sim_t *s, uint32_t off, int size);
-void vme_win_wr(sim_t *s, uint32_t off, uint32_t v, int size);
-uint32_t wdg_rd(sim_t *s, uint32_t off, int size);
-void wdg_wr(sim_t *s, uint32_t off, uint32_t v, int size);
-uint32_t axis_rd(sim_t *s, uint32_t off, int size);
-void axis_wr(sim_t *s, uint32_t off, uint32_t v, int size);
-uint32_t axis_irq_rd(sim_t *s, uint32_t off, int size);
-void axis_irq_wr(sim_t *s, uint32_t off, uint32_t v, int size);
-
-/* A device of the card (periph.c's table): its reset, the cycle of its next
- * event (NULL: none), its events up to now, its interrupt request lines
- * (bit L: a request at level L; NULL: none).  Its registers are its rows
- * of the bus table (bus_map.h, generated from board/mac4.toml). */
+/* A device of the card (periph.c's table), as MAME's devices and simavr's
+ * avr_io_t: its register windows (the bus table maps an address range to a
+ * device and one of its windows: bus_map.h, generated from board/mac4.toml),
+ * its reset, the cycle of its next event (NULL: none), its events up to
+ * now and its interrupt request lines (bit L: a request at level L; NULL:
+ * none).  Its state is its own type (sysctl.h, timer.h, ...), stored in
+ * sim_t; what it tells another device goes through a named signal
+ * (sim.h, SIG_*).  The memories are devices with a window and nothing else
+ * (bus.c). */
 typedef struct {
+    uint32_t (*rd)(sim_t *s, uint32_t off, int size);            /* off from the window's base; size 1 or 2 */
+    void (*wr)(sim_t *s, uint32_t off, uint32_t v, int size);
+} dev_window_t;
+#define DEV_WINDOWS 2
+
+typedef struct device {
     const char *name;
+    dev_window_t win[DEV_WINDOWS];
     void (*reset)(sim_t *s);
     cyc_t (*next_event)(sim_t *s);
     void (*events)(sim_t *s, cyc_t now);
@@ -38,6 +33,7 @@ extern const device_t sys_device, wdg_device, estop_device;   /* sysctl.c */
 extern const device_t tmr_device;                              /* timer.c */
 extern const device_t uart_device;                             /* uart.c */
 extern const device_t vme_device;                              /* virq.c */
+extern const device_t dpram_device, eprom_device, sram_device;   /* bus.c: the memories */
 void timer_connect(sim_t *s);              /* its end of the SSI receivers' busy line */
 
 /* axisboard.c */

@@ -187,5 +187,7 @@ int plant_vme_add(struct sim *s, uint32_t base, int axis, int bits, double res, 
                   int64_t offset, int motor_shaft);
 int plant_vme_remove(struct sim *s, uint32_t base);
 uint32_t plant_vme_value(struct sim *s, const plant_vme_t *b, uint64_t t);
+int plant_vme_rd16(struct sim *s, uint32_t addr, uint32_t *w);   /* 0: no board at addr */
+int plant_vme_wr16(struct sim *s, uint32_t addr);
 
 #endif

@@ -9,8 +9,9 @@
  * Reading the LSW latches the whole value and the following MSW read returns
  * the latched upper half, so the firmware's order (LSW at <ea>+2 first, then
  * MSW at <ea>, manual 4.4.2.1) reads a consistent value.  Writes are
- * acknowledged and ignored.  Where no board answers, the bus timer ends the
- * cycle: reads return $FFFF and VME_STATUS.BERR is set.
+ * acknowledged and ignored.  The window's bus cycles (the page register, the
+ * bus timer that ends a cycle no board answers) are the VME interrupter's
+ * (virq.c).
  */
 #include "sim.h"
 #include "periph.h"
@@ -104,25 +105,15 @@ static uint32_t board_rd16(sim_t *s, plant_vme_t *b, uint32_t reg)
     return v >> 16;
 }
 
-uint32_t vme_win_rd(sim_t *s, uint32_t off, int size)
+/* A read of the word at A24 address addr (even): 0 when no board answers. */
+int plant_vme_rd16(sim_t *s, uint32_t addr, uint32_t *w)
 {
-    uint32_t addr = ((uint32_t)(s->vme.page & 0xF) << 20) | (off & 0xFFFFF);
     plant_vme_t *b = find_board(s, addr);
-    if (!b) {
-        s->vme.berr = 1;
-        return size == 1 ? 0xFF : 0xFFFF;
-    }
-    uint32_t w = board_rd16(s, b, (addr - b->base) & ~1u);
-    if (size == 1)
-        return (addr & 1) ? (w & 0xFF) : (w >> 8);
-    return w;
+    if (!b)
+        return 0;
+    *w = board_rd16(s, b, (addr - b->base) & ~1u);
+    return 1;
 }
 
-void vme_win_wr(sim_t *s, uint32_t off, uint32_t v, int size)
-{
-    (void)v;
-    (void)size;
-    uint32_t addr = ((uint32_t)(s->vme.page & 0xF) << 20) | (off & 0xFFFFF);
-    if (!find_board(s, addr))
-        s->vme.berr = 1;
-}
+/* A write: acknowledged and ignored by a board; 0 when none answers. */
+int plant_vme_wr16(sim_t *s, uint32_t addr) { return find_board(s, addr) != NULL; }

@@ -20,7 +20,7 @@ static void display_show(sim_t *s, uint16_t v)
         s->on_display(s);
 }
 
-uint32_t sys_rd(sim_t *s, uint32_t off, int size)
+static uint32_t sys_rd(sim_t *s, uint32_t off, int size)
 {
     (void)size;
     switch (off) {
@@ -37,7 +37,7 @@ uint32_t sys_rd(sim_t *s, uint32_t off, int size)
     return 0xFFFF;
 }
 
-void sys_wr(sim_t *s, uint32_t off, uint32_t v, int size)
+static void sys_wr(sim_t *s, uint32_t off, uint32_t v, int size)
 {
     (void)size;
     switch (off) {
@@ -49,7 +49,7 @@ void sys_wr(sim_t *s, uint32_t off, uint32_t v, int size)
 }
 
 /* ---- hardware watchdog --------------------------------------------------- */
-uint32_t wdg_rd(sim_t *s, uint32_t off, int size)
+static uint32_t wdg_rd(sim_t *s, uint32_t off, int size)
 {
     (void)off;
     (void)size;
@@ -57,7 +57,7 @@ uint32_t wdg_rd(sim_t *s, uint32_t off, int size)
     return 0xFFFF;
 }
 
-void wdg_wr(sim_t *s, uint32_t off, uint32_t v, int size)
+static void wdg_wr(sim_t *s, uint32_t off, uint32_t v, int size)
 {
     (void)off;
     (void)v;
@@ -101,6 +101,7 @@ static void estop_reset(sim_t *s) { s->sys.estop_edge = s->sys.estop; }   /* an 
 
 static unsigned estop_irq_lines(sim_t *s) { return s->sys.estop_edge ? 1u << IRQ_LEVEL_ESTOP : 0; }
 
-const device_t sys_device = {"sys", sys_reset, NULL, NULL, NULL};
-const device_t wdg_device = {"watchdog", wdg_reset, wdg_next_event, wdg_event, NULL};
-const device_t estop_device = {"estop", estop_reset, NULL, NULL, estop_irq_lines};
+const device_t sys_device = {.name = "sys", .win = {{sys_rd, sys_wr}}, .reset = sys_reset};
+const device_t wdg_device = {.name = "watchdog", .win = {{wdg_rd, wdg_wr}}, .reset = wdg_reset,
+                             .next_event = wdg_next_event, .events = wdg_event};
+const device_t estop_device = {.name = "estop", .reset = estop_reset, .irq_lines = estop_irq_lines};

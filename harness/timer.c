@@ -9,7 +9,7 @@
 #include "periph.h"
 
 /* ---- periodic timer ------------------------------------------------------ */
-uint32_t tmr_rd(sim_t *s, uint32_t off, int size)
+static uint32_t tmr_rd(sim_t *s, uint32_t off, int size)
 {
     (void)size;
     cyc_t now = sim_now(s);
@@ -29,7 +29,7 @@ uint32_t tmr_rd(sim_t *s, uint32_t off, int size)
     return 0xFFFF;
 }
 
-void tmr_wr(sim_t *s, uint32_t off, uint32_t v, int size)
+static void tmr_wr(sim_t *s, uint32_t off, uint32_t v, int size)
 {
     (void)size;
     cyc_t now = sim_now(s);
@@ -103,4 +103,5 @@ static unsigned tmr_irq_lines(sim_t *s)
 /* its end of the wire from the SSI receivers (axis.ssi_busy) */
 void timer_connect(sim_t *s) { sig_connect(s, SIG_SSI_BUSY, tmr_ssi_busy); }
 
-const device_t tmr_device = {"timer", tmr_reset, tmr_next_event, tmr_event, tmr_irq_lines};
+const device_t tmr_device = {.name = "timer", .win = {{tmr_rd, tmr_wr}}, .reset = tmr_reset,
+                             .next_event = tmr_next_event, .events = tmr_event, .irq_lines = tmr_irq_lines};

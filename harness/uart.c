@@ -22,7 +22,7 @@ void uart_feed(sim_t *s, const uint8_t *bytes, unsigned n)
         u->rx_done = sim_now(s) + UART_CHAR_CYC;
 }
 
-uint32_t uart_rd(sim_t *s, uint32_t off, int size)
+static uint32_t uart_rd(sim_t *s, uint32_t off, int size)
 {
     (void)size;
     uart_t *u = &s->uart;
@@ -40,7 +40,7 @@ uint32_t uart_rd(sim_t *s, uint32_t off, int size)
     return 0xFFFF;
 }
 
-void uart_wr(sim_t *s, uint32_t off, uint32_t v, int size)
+static void uart_wr(sim_t *s, uint32_t off, uint32_t v, int size)
 {
     (void)size;
     uart_t *u = &s->uart;
@@ -102,4 +102,5 @@ static unsigned uart_irq_lines(sim_t *s)
     return 0;
 }
 
-const device_t uart_device = {"uart", uart_reset, uart_next_event, uart_event, uart_irq_lines};
+const device_t uart_device = {.name = "uart", .win = {{uart_rd, uart_wr}}, .reset = uart_reset,
+                              .next_event = uart_next_event, .events = uart_event, .irq_lines = uart_irq_lines};

@@ -1,13 +1,13 @@
 /*
  * virq.c - the IPC's VMEbus interrupter and the master window's page
- * register: a device of periph.c's table (the window's slave boards are in
- * plant_vme.c).
+ * register with its bus cycles: a device of periph.c's table (the window's
+ * slave boards are in plant_vme.c).
  */
 #include "sim.h"
 #include "periph.h"
 
 /* ---- VMEbus interrupter and master window -------------------------------- */
-uint32_t virq_rd(sim_t *s, uint32_t off, int size)
+static uint32_t virq_rd(sim_t *s, uint32_t off, int size)
 {
     (void)size;
     switch (off) {
@@ -23,7 +23,7 @@ uint32_t virq_rd(sim_t *s, uint32_t off, int size)
     return 0xFFFF;
 }
 
-void virq_wr(sim_t *s, uint32_t off, uint32_t v, int size)
+static void virq_wr(sim_t *s, uint32_t off, uint32_t v, int size)
 {
     (void)size;
     switch (off) {
@@ -39,6 +39,30 @@ void virq_wr(sim_t *s, uint32_t off, uint32_t v, int size)
     case 0x4: s->vme.page = (uint16_t)(v & 0xF); return;
     }
     sim_fault(s, "write to undefined VME register +$%X", (unsigned)off);
+}
+
+/* The master window, local $E00000-$EFFFFF: VME_PAGE supplies A23-A20.
+ * Where no slave board answers (plant_vme.c), the bus timer ends the cycle:
+ * reads return $FFFF and VME_STATUS.BERR is set. */
+static uint32_t vme_win_rd(sim_t *s, uint32_t off, int size)
+{
+    uint32_t addr = ((uint32_t)(s->vme.page & 0xF) << 20) | (off & 0xFFFFF), w;
+    if (!plant_vme_rd16(s, addr, &w)) {
+        s->vme.berr = 1;
+        return size == 1 ? 0xFF : 0xFFFF;
+    }
+    if (size == 1)
+        return (addr & 1) ? (w & 0xFF) : (w >> 8);
+    return w;
+}
+
+static void vme_win_wr(sim_t *s, uint32_t off, uint32_t v, int size)
+{
+    (void)v;
+    (void)size;
+    uint32_t addr = ((uint32_t)(s->vme.page & 0xF) << 20) | (off & 0xFFFFF);
+    if (!plant_vme_wr16(s, addr))
+        s->vme.berr = 1;
 }
 
 static void vme_reset(sim_t *s)
@@ -59,4 +83,6 @@ static void vme_event(sim_t *s, cyc_t now)
     }
 }
 
-const device_t vme_device = {"virq", vme_reset, vme_next_event, vme_event, NULL};
+/* window 0: the interrupter's registers, window 1: the master window */
+const device_t vme_device = {.name = "virq", .win = {{virq_rd, virq_wr}, {vme_win_rd, vme_win_wr}},
+                             .reset = vme_reset, .next_event = vme_next_event, .events = vme_event};

@@ -78,7 +78,7 @@ class Values:
 
 def entries(board):
     """Every define in order: (block, entry, name, C value), the memory and
-    device windows as (name, base, size, kind, emulator)."""
+    device windows as (name, base, size, word_io, (device, window))."""
     vals = Values()
     defs, windows, waits = [], [], {}
     blocks = board.get("block")
@@ -92,13 +92,13 @@ def entries(board):
             raise BoardError("%s: kind '%s' (memory, device or none)" % (where, kind))
         pre = []
         if kind == "memory":
-            for k in ("prefix", "base", "size", "emulator", "bus_name"):
+            for k in ("prefix", "base", "size", "device", "bus_name"):
                 if k not in b:
                     raise BoardError("%s: a memory block needs '%s'" % (where, k))
             pre = [{"name": b["prefix"] + "_BASE", "value": "MAC4_U(0x%06X)" % b["base"]},
                    {"name": b["prefix"] + "_SIZE", "value": "MAC4_U(0x%X)" % b["size"]}]
         if kind == "device":
-            for k in ("emulator", "bus_name"):
+            for k in ("device", "bus_name"):
                 if k not in b:
                     raise BoardError("%s: a device block needs '%s'" % (where, k))
             if "bus_base" not in b and ("io_offset" not in b or "size" not in b):
@@ -129,9 +129,12 @@ def entries(board):
             if not (isinstance(w, list) and len(w) == 2 and all(isinstance(x, int) and 0 <= x <= 255 for x in w)):
                 raise BoardError("%s: wait is [read, write], wait states 0..255" % where)
             waits[b["bus_name"]] = tuple(w)
+        dev = (b.get("device"), b.get("window", 0))
+        if kind in ("memory", "device") and not (isinstance(dev[1], int) and 0 <= dev[1] < 2):
+            raise BoardError("%s: window is 0 or 1 (a device's register windows)" % where)
         if kind == "memory":
             windows.append((b["bus_name"], "%s_BASE" % b["prefix"], "%s_SIZE" % b["prefix"],
-                            b["base"], b["size"], 0, b["emulator"]))
+                            b["base"], b["size"], 0, dev))
         elif kind == "device":
             if "bus_base" in b:
                 bb, bs = b["bus_base"], b.get("bus_size", "2")
@@ -139,7 +142,7 @@ def entries(board):
                 bb, bs = "IO_BASE + 0x%03X" % b["io_offset"], "0x%02X" % b["size"]
             base = eval(py_expr(bb), vals.ns)
             size = eval(py_expr(bs), vals.ns)
-            windows.append((b["bus_name"], bb, bs, base, size, 1, b["emulator"]))
+            windows.append((b["bus_name"], bb, bs, base, size, 1, dev))
         defs.append((b, out))
     names = set()
     for w in windows:
@@ -213,9 +216,10 @@ def header(board, defs, src, windows=(), waits=None):
 def bus_map(windows, src):
     out = ["/* bus_map.h - GENERATED from %s by tools/genboard.py: do not edit." % src,
            " * The rows of the emulator's bus table (harness/bus.c): base, size, name,",
-           " * read and write functions, word-wide I/O (no byte writes). */"]
-    for name, bb, bs, _, _, word_io, emu in windows:
-        out.append("{%s, %s, \"%s\", %s_rd, %s_wr, %d}," % (bb, bs, name, emu, emu, word_io))
+           " * the device that answers and which of its register windows, word-wide I/O",
+           " * (no byte writes). */"]
+    for name, bb, bs, _, _, word_io, (dev, win) in windows:
+        out.append("{%s, %s, \"%s\", &%s_device, %d, %d}," % (bb, bs, name, dev, win, word_io))
     return "\n".join(out) + "\n"
 
 
