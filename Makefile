@@ -63,7 +63,7 @@ MUSCFLAGS := -std=gnu99 -O2 -g -w -I$(MUS) -Iharness -Ihal -DMUSASHI_CNF='"musas
 # the workbench (docs/debugging.md): gdb stub, waveforms, front panel
 BENCH_SRCS := harness/gdbstub.c harness/bench_script.c harness/panel.c
 HARNESS_CORE := harness/sim.c harness/bus.c harness/periph.c harness/axisboard.c harness/host.c harness/run.c \
-                harness/plant.c harness/plant_vme.c harness/buswait.c harness/vcd.c
+                harness/plant.c harness/plant_servo.c harness/plant_stepper.c harness/plant_config.c harness/plant_trace.c harness/plant_vme.c harness/buswait.c harness/vcd.c
 # the devices of periph.c's table, a file each
 HARNESS_CORE += harness/sysctl.c harness/timer.c harness/uart.c harness/virq.c
 HARNESS_SRCS := $(HARNESS_CORE) \

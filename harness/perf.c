@@ -379,7 +379,7 @@ static void tick_poll(sim_t *s)
             if (s->card == MAC4_CARD_SSI)
                 fprintf(ticks_f, " s%06X", plant_ssi_value(s, n, t));
             else
-                fprintf(ticks_f, " c%06X", plant_counter(s, n, t));
+                fprintf(ticks_f, " c%06X", axb_counter(s, n, t));
             for (uint32_t w = 0; w < 0x20; w += 4)
                 fprintf(ticks_f, " %X", dp_rd32(s, DP_AXIS_DATA(n) + w));
         }

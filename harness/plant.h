@@ -21,13 +21,9 @@ struct sim;
  * happens.  Between grid points positions are linear in time. */
 #define PLANT_STEP_CYC 1600u             /* 100 us */
 
-#define SSI_FRAME_BITS 26                /* clocks per SSI read (manual 2.3.2) */
-#define SSI_FRAME_MASK 0x3FFFFFFu
-
 enum { PLANT_AMP_VELOCITY, PLANT_AMP_CURRENT };
 enum { PLANT_ENC_OK, PLANT_ENC_FROZEN, PLANT_ENC_STUCK0, PLANT_ENC_STUCK1 };
 enum { PLANT_SW_LP, PLANT_SW_LN, PLANT_SW_REF, PLANT_NSW };
-enum { PLANT_PULSES_FREE, PLANT_PULSES_COUNTING, PLANT_PULSES_DONE };
 
 typedef struct {
     int used;                  /* a switch is wired (else the input floats at 24 V) */
@@ -85,29 +81,18 @@ typedef struct {
     /* stepper */
     int sync;                  /* the rotor follows the driver's field */
     int64_t cmd;               /* the driver's field position, steps (pulses while enabled) */
-    int64_t gen;               /* pulses generated, signed by DIR */
+    int64_t gen;               /* pulses that came on STEP, signed by DIR */
     int64_t off;               /* rotor = cmd + off while in sync */
     int64_t lost_base;         /* gen - rotor after the last `plant N pos` */
-    /* step generator: 16-bit phase accumulator clocked at 50 or 500 kHz */
-    uint32_t acc;
-    uint64_t nco_t;            /* clock edges up to this cycle are done */
-    int pmode;                 /* PLANT_PULSES_* */
-    uint32_t remaining;        /* AX_PULSES */
-    /* position counter and index */
-    int64_t cnt_off;           /* counter = raw + cnt_off (mod 2^24) */
-    uint32_t cnt_frozen;       /* the value while the encoder is frozen */
-    uint32_t cnt_seen;         /* what we last left in axis_hw_t.counter */
-    int64_t raw_seen;
+    /* the encoder's index: where it crossed last, where it will */
     double idx_chk;            /* encoder position at the last index check ... */
     uint64_t idx_chk_t;        /* ... and when it was */
     uint64_t t_idx;            /* predicted index crossing */
     double idx_b;              /* ... at this boundary */
     int idx_dir;
-    /* SSI */
+    /* SSI encoder */
     int64_t ssi_off;
     uint32_t ssi_frozen;
-    uint64_t ssi_start, ssi_end;
-    uint32_t ssi_old, ssi_frame;
     /* trace */
     FILE *trace;
     uint64_t trace_next, trace_iv;
@@ -134,26 +119,62 @@ typedef struct {
 
 typedef struct plant {
     int init;                  /* defaults set (survives card resets, not sim_init) */
-    int ssi_clock;             /* jumper J2: 0..3 = A..D (table 2.8) */
     plant_axis_t ax[4];
     plant_vme_t vme[PLANT_NVME];
 } plant_t;
 
-/* plant.c: models, called by axisboard.c */
-void plant_reset(struct sim *s);                 /* card reset: board state, not mechanics */
+/* ---- the wires between an axis board (axisboard.c) and its plant --------
+ * Everything the two tell each other, by line.  The plant samples what the
+ * board drives; the board samples what the plant drives; the plant is
+ * brought up to the cycle of every sample (plant_sync). */
+/* board -> plant: what the board drives (axisboard.c) */
+int axb_en(struct sim *s, int n);                /* /EN closed (AX_CTRL_EN) */
+int axb_dir(struct sim *s, int n);               /* DIR (AX_CTRL_DIR) */
+int axb_boost(struct sim *s, int n);             /* BOOST (AX_CTRL_BOOST) */
+int16_t axb_dac(struct sim *s, int n);           /* DAC word, 12 bits */
+double axb_dac_volts(struct sim *s, int n);      /* DAC out, V */
+uint16_t axb_rate(struct sim *s, int n);         /* STP rate register */
+double axb_step_hz(struct sim *s, int n);        /* STEP rate, signed by DIR; 0 when the down-counter stopped it */
+int axb_step_running(struct sim *s, int n);      /* pulses are coming */
+uint64_t axb_step_time(struct sim *s, int n, uint64_t j);   /* when the j-th pulse from now comes */
+uint64_t axb_steps_left(struct sim *s, int n);   /* before the down-counter stops them (UINT64_MAX: free) */
+int axb_index_armed(struct sim *s, int n);       /* the index latch waits for a pulse */
+/* plant -> board: what the plant drives (plant.c) */
+void plant_step_pulses(struct sim *s, int n, int64_t d);   /* d pulses on STEP/DIR (the board's push) */
+void plant_index_armed(struct sim *s, int n, uint64_t now); /* the board armed its latch */
+int plant_has_encoder(struct sim *s, int n);     /* A/B/Z lines wired (not SSI, not STP with BR closed) */
+double plant_enc_e(struct sim *s, int n, uint64_t t);   /* encoder phase: the increment counted is floor(e) */
+int plant_enc_stuck(struct sim *s, int n);       /* A/B lines stuck: nothing is counted */
+uint16_t plant_inputs_word(struct sim *s, int n, uint64_t now);   /* switch and DF levels, AX_IN bits */
+uint32_t plant_ssi_frame(struct sim *s, int n, uint64_t now, int gray);   /* SSI data for a read started now */
+void plant_ssi_set(struct sim *s, int n, uint64_t now, uint32_t value);   /* set the SSI encoder's reading */
+/* the board's index latch and counter, for the plant's index pulse and faults (axisboard.c) */
+void axb_index_pulse(struct sim *s, int n, int64_t incr);  /* the index pulse at increment incr */
+void axb_counter_freeze(struct sim *s, int n, uint64_t now);
+void axb_counter_thaw(struct sim *s, int n, uint64_t now);
+void axb_counter_jump(struct sim *s, int n, int64_t by);
+int axb_step_advance(struct sim *s, int n, uint64_t to);   /* the step generator's clock; 1: the count ended */
+uint64_t axb_step_done_time(struct sim *s, int n);
+void axb_counter_poked(struct sim *s, int n);
+void axb_counter_mirror(struct sim *s, int n, uint64_t t);
+
+/* ---- plant.c: the models' clock, called by axisboard.c ---- */
+void plant_power_on(struct sim *s);              /* defaults, at the first card reset */
+void plant_board_reset(struct sim *s, int n, uint64_t now);   /* a card reset: the motors coast */
 void plant_sync(struct sim *s, int n, uint64_t now);
 void plant_inputs(struct sim *s, int n, uint64_t now);   /* after a register write */
-uint64_t plant_next_event(struct sim *s);
+uint64_t plant_next_event(struct sim *s, int n, int index_ie);
 void plant_events(struct sim *s, uint64_t now);
-uint32_t plant_counter(struct sim *s, int n, uint64_t now);
-void plant_counter_set(struct sim *s, int n, uint64_t now, uint32_t value);
-void plant_idx_arm(struct sim *s, int n, uint64_t now);
-uint16_t plant_inputs_word(struct sim *s, int n, uint64_t now);   /* AX_IN switch bits */
-void plant_ssi_start(struct sim *s, int n, uint64_t now);
-uint32_t plant_ssi_reg(struct sim *s, int n, uint64_t now);
-int plant_ssi_busy(struct sim *s, int n, uint64_t now);
-uint64_t plant_ssi_cycles(int clock);            /* 26 SSI clocks in CPU cycles */
-void plant_pulses_write(struct sim *s, int n, uint64_t now, uint16_t v);
+
+/* ---- axisboard.c: the counter chip, SSI timing, the step clock (tools, vcd.c) ---- */
+uint32_t axb_counter(struct sim *s, int n, uint64_t now);            /* synced */
+uint32_t axb_counter_at(struct sim *s, int n, uint64_t t);
+int64_t axb_counter_raw(struct sim *s, int n, uint64_t t);
+void axb_counter_set(struct sim *s, int n, uint64_t now, uint32_t value);
+uint64_t axb_ssi_cycles(int clock);              /* 26 SSI clocks in CPU cycles */
+uint64_t axb_step_period(struct sim *s, int n);  /* STP step clock, cycles */
+/* when the j-th pulse comes after the step clock stood at nco_t, accumulator acc */
+uint64_t axb_step_pulse_time(struct sim *s, int n, uint64_t nco_t, uint32_t acc, uint64_t j);
 
 /* configuration and observation (script_plant.c, tests) */
 void plant_axis_defaults(struct sim *s, int n);     /* parameters and state */
@@ -171,9 +192,6 @@ double plant_units_per_rev(struct sim *s, int n);            /* per output revol
 double plant_motor_rpm(struct sim *s, int n, uint64_t t);
 int plant_switch_active(struct sim *s, int n, int which, uint64_t t);
 int plant_switch_at(const plant_axis_t *p, int which, int64_t x);     /* at x rounded units */
-uint64_t plant_nco_period(struct sim *s, int n);                      /* STP step clock, cycles */
-/* when the j-th pulse comes after the step clock stood at nco_t, accumulator acc */
-uint64_t plant_nco_pulse_time(struct sim *s, int n, uint64_t nco_t, uint32_t acc, uint64_t j);
 uint32_t plant_ssi_value(struct sim *s, int n, uint64_t t);  /* binary, before J1 coding */
 int plant_trace_start(struct sim *s, int n, const char *path, uint64_t interval_cyc);
 /* the same; tick: a row at every timer expiry (interval ignored); card: the

@@ -38,7 +38,7 @@ typedef struct {
 
 static edit_t edit_begin(sim_t *s, int n)
 {
-    edit_t e = {plant_counter(s, n, sim_now(s))};
+    edit_t e = {axb_counter(s, n, sim_now(s))};
     return e;
 }
 
@@ -46,7 +46,7 @@ static void edit_end(sim_t *s, int n, edit_t e)
 {
     plant_changed(s, n);
     if (s->card != MAC4_CARD_SSI)
-        plant_counter_set(s, n, sim_now(s), e.counter);
+        axb_counter_set(s, n, sim_now(s), e.counter);
 }
 
 static void print_axis(sim_t *s, int n)
@@ -573,7 +573,7 @@ int script_plant(script_t *sc, sim_t *s, char **tok, int n)
     if (!strcmp(c, "ssi-clock")) {
         if (n != 2 || strlen(tok[1]) != 1 || tok[1][0] < 'A' || tok[1][0] > 'D')
             return script_err(sc, "usage: %s", "ssi-clock A|B|C|D (jumper J2: 93.75, 187.5, 375, 750 kHz)");
-        s->plant.ssi_clock = tok[1][0] - 'A';
+        s->ssi_clock = tok[1][0] - 'A';
         return 0;
     }
     if (!strcmp(c, "br")) {
@@ -593,7 +593,7 @@ int script_plant(script_t *sc, sim_t *s, char **tok, int n)
             return n != 3 ? script_err(sc, "usage: %s", "counter AXIS VALUE") : -1;
         if (script_parse_num(tok[2], &v) || v < -(1LL << 31) || v > 0xFFFFFFFFLL)
             return script_err(sc, "bad counter value '%s'", tok[2]);
-        plant_counter_set(s, axis, sim_now(s), (uint32_t)((uint64_t)v & 0xFFFFFF));
+        axb_counter_set(s, axis, sim_now(s), (uint32_t)((uint64_t)v & 0xFFFFFF));
         return 0;
     }
     return SCRIPT_NOT_MINE;

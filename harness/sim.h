@@ -82,6 +82,7 @@ typedef struct sim {
     uart_t uart;                   /* uart.c */
     vme_t vme;                     /* virq.c */
     axis_hw_t ax[MAC4_NAXES];      /* axisboard.c: the axis interface boards */
+    int ssi_clock;                 /* axisboard.c: the SSI clock jumper J2, 0..3 = A..D (table 2.8) */
     plant_t plant;                 /* plant.c: what is wired to them */
 
     cyc_t slice_base;              /* cycle count at the start of the CPU slice */

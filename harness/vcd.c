@@ -261,7 +261,7 @@ static void lines_at(vcd_t *v, sim_t *s, int n, uint64_t t, int64_t k)
     look(v, t, AXS(n, A_B), quad[ph] & 1u);
     int64_t per = 4 * (int64_t)p->lines, idx = (int64_t)(p->index % (4u * p->lines));
     look(v, t, AXS(n, A_Z), (uint32_t)((((k % per) + per) % per) == idx));
-    look(v, t, AXS(n, A_COUNTER), (uint32_t)((uint64_t)(k + p->cnt_off) & 0xFFFFFFu));
+    look(v, t, AXS(n, A_COUNTER), (uint32_t)((uint64_t)(k + s->ax[n].cnt_off) & 0xFFFFFFu));
 }
 
 static void edges(sim_t *s, int n, double ta, double xa, double tb, double xb)
@@ -306,7 +306,7 @@ void vcd_pulses(sim_t *s, int n, cyc_t nco_t0, uint32_t acc0, uint64_t c)
     plant_axis_t *p = &s->plant.ax[n];
     axis_hw_t *a = &s->ax[n];
     int d = (a->ctrl & AX_CTRL_DIR) ? 1 : -1;
-    cyc_t P = plant_nco_period(s, n);
+    cyc_t P = axb_step_period(s, n);
     cyc_t wid = P / 2 ? P / 2 : 1;
     int en = (a->ctrl & AX_CTRL_EN) && !s->sys.estop && !p->drive_fault;
     int64_t gen0 = p->gen - d * (int64_t)c;
@@ -314,12 +314,12 @@ void vcd_pulses(sim_t *s, int n, cyc_t nco_t0, uint32_t acc0, uint64_t c)
     if (c > 1000000)
         c = 1000000;
     for (uint64_t j = 1; j <= c; j++) {
-        cyc_t t = plant_nco_pulse_time(s, n, nco_t0, acc0, j);
+        cyc_t t = axb_step_pulse_time(s, n, nco_t0, acc0, j);
         put(v, units((double)t), AXS(n, A_STEP), 1);
         put(v, units((double)(t + wid)), AXS(n, A_STEP), 0);
         if (p->br_steps)
             look(v, units((double)t), AXS(n, A_COUNTER),
-                 (uint32_t)((uint64_t)(gen0 + d * (int64_t)j + p->cnt_off) & 0xFFFFFFu));
+                 (uint32_t)((uint64_t)(gen0 + d * (int64_t)j + a->cnt_off) & 0xFFFFFFu));
         if (p->sync && en)
             switches(v, s, n, units((double)t), rot0 + d * (int64_t)j);
     }
@@ -341,7 +341,7 @@ static void uart_char(vcd_t *v, int sig, cyc_t start, uint8_t byte)
 
 static void ssi_frame(vcd_t *v, sim_t *s, int n)
 {
-    plant_axis_t *p = &s->plant.ax[n];
+    axis_hw_t *p = &s->ax[n];                  /* the board's SSI receiver */
     double T = (double)(p->ssi_end - p->ssi_start) / SSI_FRAME_BITS;
     double t0 = (double)p->ssi_start;
     for (int k = 1; k <= SSI_FRAME_BITS; k++) {
@@ -396,8 +396,8 @@ static void registers(vcd_t *v, sim_t *s, uint64_t t, cyc_t now)
         /* a counter cleared or set by the firmware: the axis is synced to now */
         if (p->t_sync == now && s->card != MAC4_CARD_SSI)
             look(v, t, AXS(n, A_COUNTER), a->counter & 0xFFFFFFu);
-        if (s->card == MAC4_CARD_SSI && p->ssi_end > p->ssi_start && p->ssi_start != v->ssi_start[n]) {
-            v->ssi_start[n] = p->ssi_start;
+        if (s->card == MAC4_CARD_SSI && a->ssi_end > a->ssi_start && a->ssi_start != v->ssi_start[n]) {
+            v->ssi_start[n] = a->ssi_start;
             ssi_frame(v, s, n);
         }
     }
@@ -547,7 +547,7 @@ int vcd_open(sim_t *s, const char *path, const char *signals, char *err, size_t 
     v->tx_done = s->uart.tx_done;
     v->rx_done = s->uart.rx_done;
     for (int n = 0; n < NAX; n++) {
-        v->ssi_start[n] = s->plant.ax[n].ssi_start;
+        v->ssi_start[n] = s->ax[n].ssi_start;
         v->cur[AXS(n, A_SSI_CLK)] = v->cur[AXS(n, A_SSI_DATA)] = 0xFFFFFFFFu;
         look(v, t, AXS(n, A_SSI_CLK), 1);
         look(v, t, AXS(n, A_SSI_DATA), 1);

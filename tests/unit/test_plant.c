@@ -286,7 +286,7 @@ static void counter_wraps_at_2_24(void **st)
 {
     (void)st;
     setup_card(MAC4_CARD_INC);
-    plant_counter_set(&card, 0, now(), 0xFFFFF0);
+    axb_counter_set(&card, 0, now(), 0xFFFFF0);
     assert_int_equal(counter(0), 0xFFFFF0);
     wr(0, AX_CTRL, AX_CTRL_EN);
     wr(0, AX_DAC, 200);   /* ~600 inc/s */
@@ -372,7 +372,7 @@ static void timer_expiry_starts_the_synced_ssi_reads(void **st)
     for (int m = 0; m < 3; m++) {
         setup_card(MAC4_CARD_SSI);
         assert_string_equal(card.sig[SIG_TMR_EXPIRED].name, "timer.expired");
-        card.plant.ssi_clock = 3;                              /* 750 kHz: 555 cycles a frame */
+        card.ssi_clock = 3;                              /* 750 kHz: 555 cycles a frame */
         if (m < 2) {
             wr(0, AX_CTRL, AX_CTRL_SSI_SYNC);
             wr(2, AX_CTRL, AX_CTRL_SSI_SYNC);
@@ -384,8 +384,8 @@ static void timer_expiry_starts_the_synced_ssi_reads(void **st)
         assert_int_equal(now(), expiry);
         assert_true(bus_read(&card, TMR_STATUS, 2) & TMR_ST_EXPIRED);
         if (m < 2) {                                           /* both synced receivers read from the expiry */
-            assert_int_equal(card.plant.ax[0].ssi_start, expiry);
-            assert_int_equal(card.plant.ax[2].ssi_start, expiry);
+            assert_int_equal(card.ax[0].ssi_start, expiry);
+            assert_int_equal(card.ax[2].ssi_start, expiry);
             assert_true(rd(2, AX_IN) & AX_IN_SSI_BUSY);
             assert_false(rd(1, AX_IN) & AX_IN_SSI_BUSY);
         } else
@@ -409,7 +409,7 @@ static void ssi_gray_binary_placement_and_busy_time(void **st)
     assert_int_equal(plant_ssi_value(&card, 0, now()), 12345);
     static const cyc_t busy[4] = {4438, 2219, 1110, 555};   /* 26 clocks at 93.75 ... 750 kHz */
     for (int j = 0; j < 4; j++) {
-        card.plant.ssi_clock = j;
+        card.ssi_clock = j;
         wr(0, AX_SSI_START, 0);
         assert_true(rd(0, AX_IN) & AX_IN_SSI_BUSY);
         advance_cyc(busy[j] - 1);
@@ -427,7 +427,7 @@ static void ssi_gray_binary_placement_and_busy_time(void **st)
     assert_int_equal(ssi_reg(0), (uint32_t)(12345 & 8191) << 13);
     assert_int_equal(ssi_reg(0) >> 13, 12345 - 8192);
     /* while busy the register shows the bits shifted in so far, MSB first */
-    card.plant.ssi_clock = 0;   /* 93.75 kHz: 170.67 cycles per bit */
+    card.ssi_clock = 0;   /* 93.75 kHz: 170.67 cycles per bit */
     plant_set_position(&card, 0, 8191);   /* all ones in 13 bits */
     uint32_t before = ssi_reg(0);
     wr(0, AX_SSI_START, 0);
@@ -458,7 +458,7 @@ static void ssi_gray_binary_placement_and_busy_time(void **st)
     /* the counter of the SSI board never counts; `counter` sets the SSI reading */
     plant_set_enc_fault(&card, 0, PLANT_ENC_OK);
     assert_int_equal(counter(0), 0);
-    plant_counter_set(&card, 0, now(), 1000);
+    axb_counter_set(&card, 0, now(), 1000);
     assert_int_equal(plant_ssi_value(&card, 0, now()), 1000);
 }
 
