@@ -28,7 +28,8 @@ static uint32_t mask24(int64_t v) { return (uint32_t)((uint64_t)v & CNT_MASK); }
 /* ======================================================================== */
 /* the lines the board drives                                                */
 /* ======================================================================== */
-int axb_en(sim_t *s, int n) { return (s->ax[n].ctrl & AX_CTRL_EN) != 0; }
+/* /EN: closed by AX_CTRL_EN, opened by /STOP (sys.stop) */
+int axb_en(sim_t *s, int n) { return (s->ax[n].ctrl & AX_CTRL_EN) && !s->ax[n].stop; }
 int axb_dir(sim_t *s, int n) { return (s->ax[n].ctrl & AX_CTRL_DIR) != 0; }
 int axb_boost(sim_t *s, int n) { return (s->ax[n].ctrl & AX_CTRL_BOOST) != 0; }
 uint16_t axb_rate(sim_t *s, int n) { return s->ax[n].rate; }
@@ -496,7 +497,19 @@ static void axisboard_tmr_expired(sim_t *s, uint64_t at)
         }
 }
 
-void axisboard_connect(sim_t *s) { sig_connect(s, SIG_TMR_EXPIRED, axisboard_tmr_expired); }
+/* /STOP changed: every board's /EN follows at once (the plant sees it at
+ * its next sync, as any input change). */
+static void axisboard_stop(sim_t *s, uint64_t active)
+{
+    for (int n = 0; n < MAC4_NAXES; n++)
+        s->ax[n].stop = active != 0;
+}
+
+void axisboard_connect(sim_t *s)
+{
+    sig_connect(s, SIG_TMR_EXPIRED, axisboard_tmr_expired);
+    sig_connect(s, SIG_STOP, axisboard_stop);
+}
 
 /* window 0: the four boards' registers (AX_REG), window 1: AXIS_IRQ_PENDING */
 const device_t axisboard_device = {.name = "axis", .win = {{axis_rd, axis_wr}, {axis_irq_rd, axis_irq_wr}},

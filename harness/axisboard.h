@@ -27,6 +27,7 @@ typedef struct {
     uint32_t ssi;                  /* last SSI shift register */
     int gray;                      /* SSI jumper J1 open */
     uint16_t pstat;                /* STP: AX_IN_PULSE, AX_IN_PULSE_OVR, AX_IN_PDONE */
+    int stop;                      /* the /STOP line (sys.stop): /EN open whatever AX_CTRL_EN says */
     /* ---- the counter chip: counter = raw + cnt_off (mod 2^24), raw the
      * encoder's increments or (STP, BR closed) the steps generated ---- */
     int64_t cnt_off;

@@ -36,13 +36,14 @@ void sig_raise(sim_t *s, int sig, uint64_t value)
 
 void periph_connect(sim_t *s)
 {
-    static const char *const names[SIG_COUNT] = {"timer.expired", "axis.ssi_busy"};
+    static const char *const names[SIG_COUNT] = {"timer.expired", "axis.ssi_busy", "sys.stop"};
     for (int i = 0; i < SIG_COUNT; i++) {
         s->sig[i].name = names[i];
         s->sig[i].n = 0;
     }
     axisboard_connect(s);                       /* timer.expired -> the SSI receivers */
     timer_connect(s);                           /* axis.ssi_busy -> the timer's request */
+    /* sys.stop -> the axis boards' /EN outputs: axisboard_connect() too */
 }
 
 /* ---- all devices ------------------------------------------------------------ */

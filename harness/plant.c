@@ -30,7 +30,7 @@
 /* ======================================================================== */
 int plant_drive_enabled(sim_t *s, int n)
 {
-    return axb_en(s, n) && !s->sys.estop && !s->plant.ax[n].drive_fault;
+    return axb_en(s, n) && !s->plant.ax[n].drive_fault;
 }
 
 double plant_boost(sim_t *s, int n)

@@ -128,7 +128,7 @@ typedef struct plant {
  * board drives; the board samples what the plant drives; the plant is
  * brought up to the cycle of every sample (plant_sync). */
 /* board -> plant: what the board drives (axisboard.c) */
-int axb_en(struct sim *s, int n);                /* /EN closed (AX_CTRL_EN) */
+int axb_en(struct sim *s, int n);                /* /EN closed (AX_CTRL_EN, no /STOP) */
 int axb_dir(struct sim *s, int n);               /* DIR (AX_CTRL_DIR) */
 int axb_boost(struct sim *s, int n);             /* BOOST (AX_CTRL_BOOST) */
 int16_t axb_dac(struct sim *s, int n);           /* DAC word, 12 bits */

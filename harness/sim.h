@@ -58,6 +58,7 @@ typedef struct {
 enum {
     SIG_TMR_EXPIRED,               /* timer -> axis board: it expired; value: the expiry's cycle count */
     SIG_SSI_BUSY,                  /* axis board -> timer: an SSI receiver reads until value (a cycle count) */
+    SIG_STOP,                      /* /STOP input -> axis boards: value 1 active (it opens every /EN) */
     SIG_COUNT
 };
 

@@ -71,6 +71,7 @@ void estop_set(sim_t *s, int active)
     if (active && !s->sys.estop)
         s->sys.estop_edge = 1;
     s->sys.estop = active;
+    sig_raise(s, SIG_STOP, (uint64_t)(active != 0));   /* the line to the axis boards */
 }
 int estop_irq_pending(sim_t *s) { return s->sys.estop_edge; }
 void estop_irq_ack(sim_t *s) { s->sys.estop_edge = 0; }

@@ -41,6 +41,7 @@ def test_the_plant_uses_only_the_wires():
         assert not re.search(r"->ax\[|\.ax\[[^\]]*\]\.(ctrl|dac|rate|counter|idx_|pstat|ssi|cnt_|acc|pmode|remaining)",
                              s.replace("s->plant.ax[", "")), "%s reaches into the axis boards' state" % f
         assert "axis_hw_t" not in s, f
+        assert "s->sys." not in s, "%s reads the system control (/STOP comes as sys.stop)" % f
 
 
 def test_the_timer_tells_the_axis_board_by_signal():
