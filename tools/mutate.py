@@ -71,7 +71,7 @@ MUTATIONS = [
     ("stp-hz-round", "firmware/stepper.h", "(mulu16(s->rate, 25000u) + 0x4000u) >> 15", "(mulu16(s->rate, 25000u)) >> 15",
      STP, None),
     ("stp-rate-saturate", "firmware/stepper.h", "        s->rate = 0xFFFFu;", "        s->rate = 0xFFFEu;", STP, None),
-    ("stp-ssf-brake", "firmware/stepper.c", "if (rem <= (uint32_t)ssf)", "if (rem < (uint32_t)ssf)", STP,
+    ("stp-ssf-brake", "firmware/stp_profile.h", "if (rem <= (uint32_t)ssf)", "if (rem < (uint32_t)ssf)", STP,
      "equivalent: at rem == ssf (u > ssf) the mutant asks prof_must_brake32(u, dec, 0), which is 1 as well"),
     ("stp-turbo", "firmware/stepper.h", "        hz *= 10;", "        hz *= 9;", STP, None),
     # measurement paths (4.4)

@@ -136,7 +136,7 @@ def test_missing_vme_encoder_reported_once_and_again_when_enabled():
 
 
 def test_an_encoder_error_during_e_is_never_overridden_by_it():
-    # E runs parts of its work with interrupts enabled (cmd.c, do_execute); a
+    # E runs parts of its work with interrupts enabled (cmd_general.c, do_execute); a
     # tick there that fails to measure the axis raises encoder_f and disables
     # it (6.3.8).  Whatever the tick's instant, E must not then enable the
     # axis: it answers "not acknowledged" (163, 6.3.7), or it was done before

@@ -1,4 +1,4 @@
-/* The MAC4-STP arithmetic (firmware/stepper.c): the <ssf> rule of the
+/* The MAC4-STP arithmetic (firmware/stp_profile.c, stp_rate.c): the <ssf> rule of the
  * profile (5.14), the increment/step ratio (4.4.2.3), the rate register. */
 #include "unit_support.h"
 #include <stdlib.h>
