@@ -35,7 +35,15 @@ card_inc := 0
 card_ssi := 1
 card_stp := 2
 
-FW_SRCS  := $(wildcard firmware/*.c)
+# The card variant by file: the sources every card links, plus the servo
+# cards' (INC, SSI) or the stepper's own; fw_srcs_CARD is what a card links.
+FW_ALL_SRCS := $(wildcard firmware/*.c)
+FW_SERVO := firmware/tick_servo.c
+FW_STP   := firmware/tick_stp.c firmware/stepper.c firmware/stp_rate.c
+FW_SRCS  := $(filter-out $(FW_SERVO) $(FW_STP),$(FW_ALL_SRCS))
+fw_srcs_inc := $(FW_SRCS) $(FW_SERVO)
+fw_srcs_ssi := $(FW_SRCS) $(FW_SERVO)
+fw_srcs_stp := $(FW_SRCS) $(FW_STP)
 TGT_SRCS := hal/target/hal_target.c hal/target/runtime.c
 TGT_ASM  := hal/target/crt0.S hal/target/vectors.S
 FW_HDRS  := $(wildcard firmware/*.h firmware/*.def hal/*.h hal/target/*.h) Makefile
@@ -98,7 +106,7 @@ $(B)/fw-$(1)/hal_%.o: hal/target/%.c Makefile | $(MUS)/.stamp
 $(B)/fw-$(1)/asm_%.o: hal/target/%.S Makefile | $(MUS)/.stamp
 	@mkdir -p $$(@D)
 	$$(CC68) $$(DEBUG68) $$(DEPFLAGS) -m68000 -Ihal -c $$< -o $$@
-FW_OBJS_$(1) := $(patsubst firmware/%.c,$(B)/fw-$(1)/%.o,$(FW_SRCS)) \
+FW_OBJS_$(1) := $(patsubst firmware/%.c,$(B)/fw-$(1)/%.o,$(fw_srcs_$(1))) \
                 $(patsubst hal/target/%.c,$(B)/fw-$(1)/hal_%.o,$(TGT_SRCS)) \
                 $(patsubst hal/target/%.S,$(B)/fw-$(1)/asm_%.o,$(TGT_ASM))
 $(B)/eprom/mac4-$(1).elf: $$(FW_OBJS_$(1)) linker/mac4.ld
@@ -158,7 +166,6 @@ sanitize-short: all $(B)/san/mac4sim
 # static data in sections of its own (reset at every card reset), linked with
 # the emulator into build/mac4sim-native-CARD.  ASan and UBSan (as for the
 # unit tests) abort on undefined behaviour, so the differential test sees it.
-NATIVE_FW_SRCS := $(FW_SRCS) harness/hal_native.c hal/target/runtime.c
 NATIVE_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 NATIVE_FW_CFLAGS := -std=gnu11 -O1 -g $(HOSTWARN) $(NATIVE_SAN) -Ihal -Ifirmware -Iharness -Ihal/target -DHAL_NATIVE
 NATIVE_ENTRIES := fw_boot_stage1 fw_init fw_main_step fw_isr_tick fw_isr_axis fw_isr_uart fw_isr_estop \
@@ -178,7 +185,7 @@ $(B)/native-$(1)/harness/%.o: harness/%.c Makefile | $(MUS)/m68kops.c
 	@mkdir -p $$(@D)
 	@echo "  CC-NAT  $$@"; $$(HOSTCC) $$(HOSTCFLAGS) $$(DEPFLAGS) $$(HARNESS_INC) -DHAL_NATIVE -DMAC4_CARD=$(card_$(1)) \
 		$$(NATIVE_SAN) -c $$< -o $$@
-NATIVE_OBJS_$(1) := $(patsubst firmware/%.c,$(B)/native-$(1)/fw_%.o,$(FW_SRCS)) \
+NATIVE_OBJS_$(1) := $(patsubst firmware/%.c,$(B)/native-$(1)/fw_%.o,$(fw_srcs_$(1))) \
                     $(B)/native-$(1)/hal_native.o $(B)/native-$(1)/rt_runtime.o
 $(B)/native-$(1)/fw.o: $$(NATIVE_OBJS_$(1))
 	$$(HOSTCC) -r -nostdlib $$^ -o $$@.r

@@ -161,7 +161,7 @@ extern uint32_t card_ticks;     /* servo ticks since reset */
 /* INC/SSI: bit n set while axis n's gains take the general filter
  * (servo_gains_t.full), kept by axis_set_gains, the gains' only writer.
  * Clear, the tick runs its body for K-only gains on every axis, which saves
- * fewer registers and tests no axis' gains (card.c, tick()). */
+ * fewer registers and tests no axis' gains (tick_servo.c, tick()). */
 extern uint8_t card_servo_general;
 
 void card_reset(void);          /* outputs to reset state, defaults */
@@ -184,6 +184,7 @@ static inline __attribute__((always_inline)) void card_supervise(void)
         card_supervise_tick();
 }
 extern uint16_t card_supervise_late;        /* ticks supervised late (the main loop was held up) */
+void supervise_reset(void);                 /* card_reset: the supervision's own state */
 
 /* Axis state changes used by commands and by the protective reactions. */
 void axis_set_mode(unsigned n, uint8_t mode);
@@ -203,6 +204,8 @@ void vme_irq(uint8_t vector);
  * acknowledged the last one; the test is inline (every main-loop pass). */
 extern volatile uint8_t vme_irq_waiting;
 void vme_irq_service_do(void);
+void vme_irq_reset(void);                   /* card_reset: nothing waiting */
+extern uint32_t virq_lost;                  /* requests the FIFO had no room for (DPC_VME_IRQ_LOST) */
 static inline __attribute__((always_inline)) void vme_irq_service(void)
 {
     if (vme_irq_waiting)

@@ -7,11 +7,11 @@
  *                         velocities of what it changed (vq_compute)
  *   motion_profile_tick() once per SP, in the main loop: the profile generator
  *                         prepares the NEXT SP's segment (nx_*); the tick
- *                         takes it over at the SP boundary (card.c: take_row,
+ *                         takes it over at the SP boundary (tick_servo.c: take_row,
  *                         STP stp_take_segment)
  *   motion_supervise()    after every tick, in the main loop: the protective
  *                         reactions (the tick itself - setpoint, filter or
- *                         step rate, output - is card.c's, four axes inlined)
+ *                         step rate, output - is tick_servo.c's or tick_stp.c's, four axes inlined)
  *
  * Everything runs in the measurement frame (position without <ao>), in Q16.
  */
@@ -28,16 +28,15 @@
 static int64_t vq(unsigned n, int32_t v)
 {
     int32_t sf = PAR(n, SF);
-#if MAC4_CARD == MAC4_CARD_STP
-    /* Hz -> steps per SP of 32 ms: x 0.032 = 134218 / 2^22 (2 ppm) */
-    int64_t q = (int64_t)prof_umul32((uint32_t)(v < 0 ? -v : v), 134218u) >> 6;
-    if (axes[n].sstat & SB(TURBO))
-        q *= 10;                                 /* 4.1.3 */
-    q >>= sf;
-    return v < 0 ? -q : q;
-#else
+    if (MAC4_CARD == MAC4_CARD_STP) {
+        /* Hz -> steps per SP of 32 ms: x 0.032 = 134218 / 2^22 (2 ppm) */
+        int64_t q = (int64_t)prof_umul32((uint32_t)(v < 0 ? -v : v), 134218u) >> 6;
+        if (axes[n].sstat & SB(TURBO))
+            q *= 10;                             /* 4.1.3 */
+        q >>= sf;
+        return v < 0 ? -q : q;
+    }
     return ((int64_t)v * 65536) >> sf;
-#endif
 }
 
 /* The cached vq() values (axis_t q_*): recomputed when a parameter of the
@@ -45,12 +44,7 @@ static int64_t vq(unsigned n, int32_t v)
  * cruise limits follow the target). */
 static inline __attribute__((always_inline)) uint8_t vq_turbo(const axis_t *x)
 {
-#if MAC4_CARD == MAC4_CARD_STP
-    return (x->sstat & SB(TURBO)) != 0;
-#else
-    (void)x;
-    return 0;
-#endif
+    return MAC4_CARD == MAC4_CARD_STP && (x->sstat & SB(TURBO));   /* 4.1.3: STP only */
 }
 
 static void vq_compute(unsigned n);
@@ -85,15 +79,19 @@ static void vq_compute(unsigned n)
 
 static int64_t meas_q(unsigned n) { return Q16(axes[n].meas); }
 
-#if MAC4_CARD == MAC4_CARD_STP
-#include "stepper.h"
 /* 5.14: on the STP every ramp of every mode starts from stand-still with
  * <ssf> and stops from at most <ssf> (stepper.c); set per axis at the top
- * of motion_profile_tick. */
+ * of profile_modes. */
 static int64_t stp_ssf_now;
-#define prof_ramp(p, vt, acc, dec) stp_ramp(p, vt, acc, dec, stp_ssf_now)
 #define STP_UNLIMITED ((int64_t)1 << 48)
-#endif
+
+/* The ramp of every mode: the profile's, on the STP through <ssf>. */
+static inline __attribute__((always_inline)) int ramp(prof_t *p, int64_t vt, int64_t acc, int64_t dec)
+{
+    if (MAC4_CARD == MAC4_CARD_STP)
+        return stp_ramp(p, vt, acc, dec, stp_ssf_now);
+    return prof_ramp(p, vt, acc, dec);
+}
 
 /* A user position (with <ao>) as a measurement-frame target. */
 static int64_t target_of(unsigned n, int32_t user)
@@ -134,14 +132,14 @@ void motion_hold(unsigned n)
     x->sp_f = x->start_f = x->end_f = (uint16_t)x->prof.pos;
     x->st_i = 0;
     x->st_f = 0;
-#if MAC4_CARD != MAC4_CARD_STP
-    int32_t sp = x->sp_i + (x->sp_f >= 0x8000u);
-    x->sp_now = x->sp_rows[0];
-    x->sp_next = x->sp_rows[1];
-    for (unsigned k = 0; k < PROFILE_DIVIDER; k++)
-        x->sp_rows[0][k] = x->sp_rows[1][k] = sp;
-    x->sp_vel = x->sp_vel_next = 0;
-#endif
+    if (MAC4_CARD != MAC4_CARD_STP) {            /* the servo tick's setpoint rows */
+        int32_t sp = x->sp_i + (x->sp_f >= 0x8000u);
+        x->sp_now = x->sp_rows[0];
+        x->sp_next = x->sp_rows[1];
+        for (unsigned k = 0; k < PROFILE_DIVIDER; k++)
+            x->sp_rows[0][k] = x->sp_rows[1][k] = sp;
+        x->sp_vel = x->sp_vel_next = 0;
+    }
     x->braking = 0;
 }
 
@@ -161,16 +159,15 @@ static void brake_now(axis_t *x, int64_t dec_sp)
         return;
     }
     x->br_dec = d;
-#if MAC4_CARD != MAC4_CARD_STP
     int64_t pos = (int64_t)x->setpoint * 65536;
     int32_t v = x->sp_vel / 4;
-#else
-    /* the Q16 setpoint and the segment's step per tick; a stepper stops at
-     * once from <ssf> or less (5.14): br_ssf per tick */
-    int64_t pos = (int64_t)x->sp_i * 65536 + x->sp_f;
-    int32_t v = (int32_t)((uint32_t)x->st_i << 16) + (int32_t)x->st_f;
-    x->br_ssf = (int32_t)(stp_ax[x - axes].ssf >> 2);
-#endif
+    if (MAC4_CARD == MAC4_CARD_STP) {
+        /* the Q16 setpoint and the segment's step per tick; a stepper stops at
+         * once from <ssf> or less (5.14): br_ssf per tick */
+        pos = (int64_t)x->sp_i * 65536 + x->sp_f;
+        v = (int32_t)((uint32_t)x->st_i << 16) + (int32_t)x->st_f;
+        x->br_ssf = (int32_t)(stp_ax[x - axes].ssf >> 2);
+    }
     brake_set_pos(x, pos);
     x->br_v = v;
     x->nx_ready = 0;
@@ -183,18 +180,18 @@ static void brake_done(axis_t *x)
 {
     x->prof.pos = brake_pos(x);
     x->prof.vel = 0;
-#if MAC4_CARD != MAC4_CARD_STP
-    int32_t sp = brake_setpoint(x);
-    for (unsigned k = 0; k < PROFILE_DIVIDER; k++)
-        x->sp_rows[0][k] = x->sp_rows[1][k] = sp;
-    x->sp_vel = x->sp_vel_next = 0;
-#else
-    brake_split(x, &x->sp_i, &x->sp_f);
-    x->start_i = x->end_i = x->sp_i;
-    x->start_f = x->end_f = x->sp_f;
-    x->st_i = 0;
-    x->st_f = 0;
-#endif
+    if (MAC4_CARD != MAC4_CARD_STP) {
+        int32_t sp = brake_setpoint(x);
+        for (unsigned k = 0; k < PROFILE_DIVIDER; k++)
+            x->sp_rows[0][k] = x->sp_rows[1][k] = sp;
+        x->sp_vel = x->sp_vel_next = 0;
+    } else {
+        brake_split(x, &x->sp_i, &x->sp_f);
+        x->start_i = x->end_i = x->sp_i;
+        x->start_f = x->end_f = x->sp_f;
+        x->st_i = 0;
+        x->st_f = 0;
+    }
     x->nx_ready = 0;
     x->braking = 0;
 }
@@ -215,16 +212,15 @@ void motion_plan_target(unsigned n, uint8_t mode, motion_plan_t *p)
 
 void motion_plan(unsigned n, motion_plan_t *p)
 {
-#if MAC4_CARD != MAC4_CARD_STP                  /* the STP has no servo filter */
-    servo_set_gains(&p->gains, PAR(n, GA), PAR(n, ZE), PAR(n, PO), PAR(n, KI), PAR(n, KISC));
-    servo_set_limit(&p->gains, PAR(n, SW));      /* <sw>, torque (force) limitation */
-#endif
+    if (MAC4_CARD != MAC4_CARD_STP) {            /* the STP has no servo filter */
+        servo_set_gains(&p->gains, PAR(n, GA), PAR(n, ZE), PAR(n, PO), PAR(n, KI), PAR(n, KISC));
+        servo_set_limit(&p->gains, PAR(n, SW));  /* <sw>, torque (force) limitation */
+    }
     /* <trt> in whole sampling periods, rounded up (5.6) */
     uint32_t sp_ms = MAC4_CARD == MAC4_CARD_STP ? 32u : 10u;
     p->trt_periods = (uint16_t)divu16((uint32_t)PAR(n, TRT) + sp_ms - 1u, (uint16_t)sp_ms);   /* <trt> < 2^16 */
-#if MAC4_CARD == MAC4_CARD_STP
-    stp_motion_plan(n, vq(n, PAR(n, SSF)), &p->stp);   /* <ssf>, <lv>, TURBO (stepper.c) */
-#endif
+    if (MAC4_CARD == MAC4_CARD_STP)
+        stp_motion_plan(n, vq(n, PAR(n, SSF)), &p->stp);   /* <ssf>, <lv>, TURBO (stepper.c) */
 }
 
 void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p)
@@ -234,9 +230,8 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
         motion_hold(n);                          /* no jump when the drive comes on */
         servo_reset(&x->servo);
     }
-#if MAC4_CARD != MAC4_CARD_STP
-    axis_set_gains(n, &p->gains);
-#endif
+    if (MAC4_CARD != MAC4_CARD_STP)
+        axis_set_gains(n, &p->gains);
     x->done = 0;
     x->phase = 0;
     if (!(mode == M_RESET && x->stop_then >= STOP_DISABLE)) {
@@ -257,9 +252,8 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
     default:
         break;
     }
-#if MAC4_CARD == MAC4_CARD_STP
-    stp_motion_start(n, mode, &p->stp);             /* creep phase, <lv>, TURBO (stepper.c) */
-#endif
+    if (MAC4_CARD == MAC4_CARD_STP)
+        stp_motion_start(n, mode, &p->stp);      /* creep phase, <lv>, TURBO (stepper.c) */
     /* the velocities and the cruise limits of the new mode and target: in
      * the command, not in the profile generator's next step, but after the
      * mask (motion_after_command); until then they read as stale */
@@ -321,11 +315,10 @@ static int sw_active(unsigned n, uint32_t ubit) { return (axes[n].ustat & ubit) 
 static void justified(unsigned n, int set_zero)
 {
     axis_t *x = axis_at[n];
-#if MAC4_CARD != MAC4_CARD_STP
-    x->prof.pos = Q16(x->edge);
-#endif
     /* (STP: the steps stop where they are, from <lv> <= <ssf>; no jump back
      * to the edge, which would be a reversal above <ssf>) */
+    if (MAC4_CARD != MAC4_CARD_STP)
+        x->prof.pos = Q16(x->edge);
     x->prof.vel = 0;
     x->done = 1;
     if (set_zero) {
@@ -391,13 +384,11 @@ static void next_segment_wide(axis_t *x, int64_t before);
 
 static inline __attribute__((always_inline)) void next_segment(axis_t *x, int64_t before)
 {
-#if MAC4_CARD != MAC4_CARD_STP
     int64_t dd = x->prof.pos - before;
-    if (dd < (1l << 30) && dd > -(1l << 30)) {
+    if (MAC4_CARD != MAC4_CARD_STP && dd < (1l << 30) && dd > -(1l << 30)) {
         rows_of(x, before, (int32_t)dd);         /* the usual SP, in 32 bits */
         return;
     }
-#endif
     next_segment_wide(x, before);
 }
 
@@ -407,9 +398,8 @@ static void next_segment_wide(axis_t *x, int64_t before)
     PIN_PTR(x);
     const prof_t *p = &x->prof;
     int64_t d64 = p->pos - before;
-#if MAC4_CARD != MAC4_CARD_STP
-    x->sp_vel_next = d64 > INT32_MAX ? INT32_MAX : d64 < -INT32_MAX ? -INT32_MAX : (int32_t)d64;
-#endif
+    if (MAC4_CARD != MAC4_CARD_STP)
+        x->sp_vel_next = d64 > INT32_MAX ? INT32_MAX : d64 < -INT32_MAX ? -INT32_MAX : (int32_t)d64;
     split_q16(before, &x->nx_start_i, &x->nx_start_f);
     split_q16(p->pos, &x->nx_end_i, &x->nx_end_f);
     if (d64 >= INT32_MIN && d64 <= INT32_MAX) {  /* no 64-bit shift */
@@ -422,19 +412,19 @@ static void next_segment_wide(axis_t *x, int64_t before)
         // cppcheck-suppress shiftNegativeLHS ; arithmetic (floor) on GCC, as in rows_of
         split_q16(d64 >> 2, &x->nx_st_i, &x->nx_st_f);
     }
-#if MAC4_CARD != MAC4_CARD_STP
-    /* the four ticks' setpoints: start + k step, the last exactly the end */
-    int32_t *row = x->sp_next;
-    int32_t i = x->nx_start_i;
-    uint16_t f = x->nx_start_f;
-    for (unsigned k = 0; k < PROFILE_DIVIDER - 1u; k++) {
-        uint32_t f32 = (uint32_t)f + x->nx_st_f;
-        i = pos_add(pos_add(i, x->nx_st_i), (int32_t)(f32 >> 16));
-        f = (uint16_t)f32;
-        row[k] = pos_add(i, f >= 0x8000u);
+    if (MAC4_CARD != MAC4_CARD_STP) {
+        /* the four ticks' setpoints: start + k step, the last exactly the end */
+        int32_t *row = x->sp_next;
+        int32_t i = x->nx_start_i;
+        uint16_t f = x->nx_start_f;
+        for (unsigned k = 0; k < PROFILE_DIVIDER - 1u; k++) {
+            uint32_t f32 = (uint32_t)f + x->nx_st_f;
+            i = pos_add(pos_add(i, x->nx_st_i), (int32_t)(f32 >> 16));
+            f = (uint16_t)f32;
+            row[k] = pos_add(i, f >= 0x8000u);
+        }
+        row[PROFILE_DIVIDER - 1u] = pos_add(x->nx_end_i, x->nx_end_f >= 0x8000u);
     }
-    row[PROFILE_DIVIDER - 1u] = pos_add(x->nx_end_i, x->nx_end_f >= 0x8000u);
-#endif
     x->nx_ready = 1;
 }
 
@@ -448,15 +438,13 @@ static void pos_end_check(unsigned n)
     int64_t d = (x->target >> 16) - x->meas;
     if (d < 0)
         d = -d;
-#if MAC4_CARD == MAC4_CARD_STP
-    d -= stp_tol(n);                             /* 5.6: the tolerance of <ms>/(4 <es>) */
-#endif
+    if (MAC4_CARD == MAC4_CARD_STP)
+        d -= stp_tol(n);                         /* 5.6: the tolerance of <ms>/(4 <es>) */
     if (d <= PAR(n, TR)) {
         if (x->trt_count >= x->trt_periods) {
             x->ustat |= UB(POS_END);
-#if MAC4_CARD == MAC4_CARD_STP
-            x->sstat |= SB(IN_POS);              /* 7.1.2: MAC4-STP only (LED P) */
-#endif
+            if (MAC4_CARD == MAC4_CARD_STP)
+                x->sstat |= SB(IN_POS);          /* 7.1.2: MAC4-STP only (LED P) */
             vme_irq((uint8_t)PAR(n, IRQ4));
         } else {
             x->trt_count++;
@@ -536,8 +524,7 @@ static int stop_watch(axis_t *x, unsigned n)
     return 1;
 }
 
-#if MAC4_CARD != MAC4_CARD_STP
-/* A positioning SP with limits below 2^30 (braking, landing) where the cruise
+/* INC/SSI: a positioning SP with limits below 2^30 (braking, landing) where the cruise
  * step does not apply; apart from motion_profile_tick, which keeps its
  * registers for the cruise step. */
 static void __attribute__((noinline)) position_fit_step(axis_t *x, unsigned n)
@@ -558,7 +545,6 @@ static void __attribute__((noinline)) position_fit_step(axis_t *x, unsigned n)
         pos_end_check(n);
     }
 }
-#endif
 
 /* The common case first, in a small function: a positioning move far from
  * its target (prof_cruise); everything else in profile_modes(). */
@@ -573,15 +559,15 @@ void motion_profile_tick(unsigned n)
             return;                              /* the tick brakes (brake_now) */
         brake_done(x);
     }
-#if MAC4_CARD != MAC4_CARD_STP
-    if (x->mode == M_POSITIONING && !x->stop_then && x->done) {
+    /* INC/SSI: the positioning fast paths (the STP's positioning has its creep phase) */
+    if (MAC4_CARD != MAC4_CARD_STP && x->mode == M_POSITIONING && !x->stop_then && x->done) {
         /* on target: the setpoint stands (the step would be 0) until pos_end */
         if (!(x->ustat & UB(POS_END)))
             pos_end_check(n);
         rows_of(x, x->prof.pos, 0);
         return;
     }
-    if (x->mode == M_POSITIONING && !x->stop_then && !x->done) {
+    if (MAC4_CARD != MAC4_CARD_STP && x->mode == M_POSITIONING && !x->stop_then && !x->done) {
         vq_refresh_x(x, n);
         int64_t before = x->prof.pos;
         int32_t d;
@@ -595,7 +581,6 @@ void motion_profile_tick(unsigned n)
             return;
         }
     }
-#endif
     profile_modes(n);
 }
 
@@ -607,12 +592,12 @@ static void profile_modes(unsigned n)
     if (x->nx_ready)
         return;                                  /* the tick has not taken the last one */
     int64_t before = p->pos;
-#if MAC4_CARD == MAC4_CARD_STP
     int64_t before_vel = p->vel;
-    if (x->mode == M_DISABLE || x->mode == M_TEST)
-        stp_status(n);                           /* system status bits (else stp_profile_end) */
-    stp_ssf_now = stp_ax[n].ssf;                 /* <ssf> on the rate grid, from E */
-#endif
+    if (MAC4_CARD == MAC4_CARD_STP) {
+        if (x->mode == M_DISABLE || x->mode == M_TEST)
+            stp_status(n);                       /* system status bits (else stp_profile_end) */
+        stp_ssf_now = stp_ax[n].ssf;             /* <ssf> on the rate grid, from E */
+    }
 
     if (x->mode == M_DISABLE || x->mode == M_TEST) {
         motion_hold(n);
@@ -621,32 +606,32 @@ static void profile_modes(unsigned n)
     vq_refresh(n);
     if (x->stop_then) {                          /* protective stop: ramp <ed> */
         int64_t ed = x->q_ed;
-        if (prof_ramp(p, 0, ed, ed) && !x->stop_settle)
+        if (ramp(p, 0, ed, ed) && !x->stop_settle)
             stop_done(n);                        /* (else when the mechanics stand: stop_watch) */
     } else {
         switch (x->mode) {
         case M_ENABLE:                           /* hold; UE from a move: stop with <pd> */
         case M_BRAKE:
-            x->done = (uint8_t)prof_ramp(p, 0, x->q_pd, x->q_pd);
+            x->done = (uint8_t)ramp(p, 0, x->q_pd, x->q_pd);
             break;
         case M_RESET:                            /* 4.8.2: emergency ramp, at rest, then disable */
             motion_emergency(n, STOP_DISABLE);   /* the tick brakes (brake_now) */
             return;
         case M_SPEED: {                          /* <vt> with the ramps <pa>/<pd> */
             prof_t was = *p;
-            prof_ramp(p, vq(n, PAR(n, VT)), x->q_pa, x->q_pd);
+            ramp(p, vq(n, PAR(n, VT)), x->q_pa, x->q_pd);
             limit_guard(x, n, &was, x->q_pd);    /* before a software limit: <pd> */
             break;
         }
         case M_VEL_TRACK: {                      /* 5.11: acceleration not limited */
             prof_t was = *p;
-#if MAC4_CARD == MAC4_CARD_STP
-            /* ... but from and to stand-still through <ssf> (5.14) */
-            prof_ramp(p, vq(n, PAR(n, VT)), STP_UNLIMITED, STP_UNLIMITED);
-#else
-            p->vel = vq(n, PAR(n, VT));
-            p->pos += p->vel;
-#endif
+            if (MAC4_CARD == MAC4_CARD_STP) {
+                /* ... but from and to stand-still through <ssf> (5.14) */
+                ramp(p, vq(n, PAR(n, VT)), STP_UNLIMITED, STP_UNLIMITED);
+            } else {
+                p->vel = vq(n, PAR(n, VT));
+                p->pos += p->vel;
+            }
             limit_guard(x, n, &was, x->q_ed);    /* before a software limit: <ed> */
             break;
         }
@@ -657,26 +642,24 @@ static void profile_modes(unsigned n)
             break;
         }
         case M_POSITIONING:
-#if MAC4_CARD == MAC4_CARD_STP
-            /* ramps to <stc> steps before the target, then the creep phase (diagram 5.2) */
-            if (!x->done && stp_positioning(n, x->q_pv, x->q_pa, x->q_pd, stp_ssf_now))
-                x->done = 1;
-#else
-            if (!x->done &&
-                (x->q_fit ? prof_position_fit(p, x->target, &x->q_l32)
-                          : prof_position_free(p, x->target, x->q_pv, x->q_pa, x->q_pd, x->q_free))) {
+            if (MAC4_CARD == MAC4_CARD_STP) {
+                /* ramps to <stc> steps before the target, then the creep phase (diagram 5.2) */
+                if (!x->done && stp_positioning(n, x->q_pv, x->q_pa, x->q_pd, stp_ssf_now))
+                    x->done = 1;
+            } else if (!x->done &&
+                       (x->q_fit ? prof_position_fit(p, x->target, &x->q_l32)
+                                 : prof_position_free(p, x->target, x->q_pv, x->q_pa, x->q_pd, x->q_free))) {
                 x->done = 1;
             }
-#endif
             if (x->done && !(x->ustat & UB(POS_END)))
                 pos_end_check(n);
             break;
         case M_SEARCH_IDX_C:                     /* 5.7 */
             if (x->phase == 0) {
-                prof_ramp(p, vq(n, PAR(n, CV)), vq(n, PAR(n, CA)), vq(n, PAR(n, CA)));
+                ramp(p, vq(n, PAR(n, CV)), vq(n, PAR(n, CA)), vq(n, PAR(n, CA)));
                 if (x->idx_seen)
                     x->phase = 1;
-            } else if (!x->done && prof_ramp(p, 0, vq(n, PAR(n, CD)), vq(n, PAR(n, CD)))) {
+            } else if (!x->done && ramp(p, 0, vq(n, PAR(n, CD)), vq(n, PAR(n, CD)))) {
                 x->done = 1;
                 x->ustat |= UB(JUS_END);
                 vme_irq((uint8_t)PAR(n, IRQ4));
@@ -696,24 +679,21 @@ static void profile_modes(unsigned n)
             case 0:                              /* 1: find the reference switch */
                 if (sw_active(n, UB(REF))) {
                     x->phase = 1;
-#if MAC4_CARD == MAC4_CARD_STP
-                    /* the braking ramp begins in this SP: a stepper must not pause at speed */
-                    if (prof_ramp(p, 0, vq(n, PAR(n, HD)), vq(n, PAR(n, HD))))
+                    /* STP: the braking ramp begins in this SP: a stepper must not pause at speed */
+                    if (MAC4_CARD == MAC4_CARD_STP && ramp(p, 0, vq(n, PAR(n, HD)), vq(n, PAR(n, HD))))
                         x->phase = 2;
-#endif
                 } else
-                    prof_ramp(p, vq(n, hv), vq(n, PAR(n, HA)), vq(n, PAR(n, HA)));
+                    ramp(p, vq(n, hv), vq(n, PAR(n, HA)), vq(n, PAR(n, HA)));
                 break;
             case 1:                              /* brake with <hd> */
-                if (prof_ramp(p, 0, vq(n, PAR(n, HD)), vq(n, PAR(n, HD))))
+                if (ramp(p, 0, vq(n, PAR(n, HD)), vq(n, PAR(n, HD))))
                     x->phase = sw_active(n, UB(REF)) ? 2 : 0;
                 break;
             case 2:                              /* 2: left edge of the switch at <lv> */
                 if (!sw_active(n, UB(REF))) {
                     p->vel = 0;
-#if MAC4_CARD != MAC4_CARD_STP
-                    p->pos = meas_q(n);          /* (STP: the steps stop where they are) */
-#endif
+                    if (MAC4_CARD != MAC4_CARD_STP)
+                        p->pos = meas_q(n);      /* (STP: the steps stop where they are) */
                     arm_index(n);
                     x->phase = 3;
                 } else {
@@ -740,16 +720,14 @@ static void profile_modes(unsigned n)
             case 0:
                 if (sw_active(n, bit)) {
                     x->phase = 1;
-#if MAC4_CARD == MAC4_CARD_STP
-                    /* the braking ramp begins in this SP: a stepper must not pause at speed */
-                    if (prof_ramp(p, 0, vq(n, PAR(n, FD)), vq(n, PAR(n, FD))))
+                    /* STP: the braking ramp begins in this SP: a stepper must not pause at speed */
+                    if (MAC4_CARD == MAC4_CARD_STP && ramp(p, 0, vq(n, PAR(n, FD)), vq(n, PAR(n, FD))))
                         x->phase = 2;
-#endif
                 } else
-                    prof_ramp(p, sgn(dir, fv), vq(n, PAR(n, FA)), vq(n, PAR(n, FA)));
+                    ramp(p, sgn(dir, fv), vq(n, PAR(n, FA)), vq(n, PAR(n, FA)));
                 break;
             case 1:
-                if (prof_ramp(p, 0, vq(n, PAR(n, FD)), vq(n, PAR(n, FD))))
+                if (ramp(p, 0, vq(n, PAR(n, FD)), vq(n, PAR(n, FD))))
                     x->phase = 2;
                 break;
             case 2:                              /* back at <lv> to the transition */
@@ -770,9 +748,8 @@ static void profile_modes(unsigned n)
             break;
         }
     }
-#if MAC4_CARD == MAC4_CARD_STP
-    stp_profile_end(n, before, before_vel);     /* BOOST <bt> ahead of a move (4.1.4) */
-#endif
+    if (MAC4_CARD == MAC4_CARD_STP)
+        stp_profile_end(n, before, before_vel); /* BOOST <bt> ahead of a move (4.1.4) */
     /* the next SP's segment, for the tick to take at the boundary */
     if (x->mode != M_DISABLE && x->mode != M_TEST)
         next_segment(x, before);
@@ -810,10 +787,8 @@ void motion_supervise(unsigned n)
         uint32_t hi = hal_rd16(AX_REG(n, AX_IDX_HI));
         uint32_t raw = (hi << 16) | hal_rd16(AX_REG(n, AX_IDX_LO));
         int32_t d = (int32_t)((raw - x->counter) << 8) >> 8;   /* 24-bit counter */
-        x->edge = x->meas + d;
-#if MAC4_CARD == MAC4_CARD_STP
-        x->edge = stp_edge(n, d);                /* increments -> steps */
-#endif
+        /* STP: increments -> steps */
+        x->edge = MAC4_CARD == MAC4_CARD_STP ? stp_edge(n, d) : x->meas + d;
         x->idx_seen = 1;
     }
 
@@ -830,14 +805,12 @@ void motion_supervise(unsigned n)
             motion_emergency(n, STOP_DISABLE);
         } else if (x->ustat & (UB(HWL_P) | UB(HWL_N))) {
             /* hardware limits stop motion into the switch, not out of it, in
-             * every mode (test mode: card.c); find edge may run into the one
+             * every mode (test mode: supervise.c axis_inputs); find edge may run into the one
              * limit switch it looks for (<dl> 1, 2), to its edge */
             int64_t v = x->prof.vel;
             int dir = v > 0 ? 1 : v < 0 ? -1 : 0;
-#if MAC4_CARD == MAC4_CARD_STP
-            if (!dir)
+            if (MAC4_CARD == MAC4_CARD_STP && !dir)
                 dir = stp_creep_dir(n);          /* the creep phase's pulses (5.6): the profile stands */
-#endif
             uint32_t into = x->ustat & (dir > 0 ? UB(HWL_P) : dir < 0 ? UB(HWL_N) : 0);
             if (x->mode == M_FIND_EDGE) {
                 int32_t dl = PAR(n, DL);

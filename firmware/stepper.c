@@ -18,15 +18,13 @@
  * Position units are steps.  The position counter counts either the
  * generated steps (<et> 0, solder bridge BR closed) or an encoder's
  * increments (BR open, or an external encoder), which ms/(4 es) converts
- * to steps (4.4.2.3).
+ * to steps (4.4.2.3).  The STP's image alone links it (Makefile, FW_STP).
  */
 #include "fw.h"
 #include "hal.h"
 #include "mul16.h"
 #include "stepper.h"
 #include "stp_profile.h"
-
-#if MAC4_CARD == MAC4_CARD_STP
 #include "card.h"
 #include "params.h"
 #include "motion.h"
@@ -232,5 +230,3 @@ void stp_profile_end(unsigned n, int64_t before, int64_t before_vel)
     else
         profile_end(x, s, n, before, before_vel);
 }
-
-#endif

@@ -79,11 +79,13 @@ int64_t stp_ssf_grid(int64_t ssf, int turbo);
 #define STP_TICK_CLOCKS 400u          /* generator clocks per 8 ms tick (50 kHz) */
 #define STP_TICK_CLOCKS_TURBO 4000u   /* TURBO: 500 kHz */
 
-/* ---- the STP card -------------------------------------------------------- */
-#if MAC4_CARD == MAC4_CARD_STP
+/* ---- the STP card --------------------------------------------------------
+ * Declared on every card, so that the common code can say
+ * `if (MAC4_CARD == MAC4_CARD_STP) ...` in plain C; defined in the STP's
+ * own files (stepper.c, stp_rate.c), which only its image links. */
 #include "hal.h"
 #include "card.h"
-/* Per axis; public so that the tick's output stage (card.c) is a copy.
+/* Per axis; public so that the tick's output stage (tick.h) is a copy.
  * 64 bytes on the 68000: &stp_ax[n] is then n << 6, not a multiply by the
  * struct's size, in every function that takes an axis number (a field
  * more needs another one out, or the padding to 128). */
@@ -160,7 +162,7 @@ void stp_status(unsigned n);                  /* once per SP: TURBO, status bits
 int stp_positioning(unsigned n, int64_t vmax, int64_t acc, int64_t dec, int64_t ssf);
 void stp_profile_end(unsigned n, int64_t before, int64_t before_vel);  /* BOOST gate */
 void stp_trim(unsigned n);
-/* output stage and interrupts (card.c) */
+/* output stage and interrupts (tick.h, supervise.c) */
 void stp_idle_output(unsigned n);             /* disabled or test mode */
 int32_t stp_out_steps_sp(unsigned n);         /* ROUT, Steps/SP (table 6.2) */
 
@@ -179,7 +181,7 @@ static inline __attribute__((always_inline)) void stp_load_rate(stp_t *s, uint32
     }
 }
 
-/* Every tick, modes with a profile (card.c stp_tick_axis, after the setpoint
+/* Every tick, modes with a profile (tick_stp.c stp_tick_axis, after the setpoint
  * interpolation moved sp_i/sp_f on from old_i/old_f): the step rate for
  * this tick's distance, setpoint and following error.  The common case -
  * no creep or trim, moving on in the direction of the last tick - is
@@ -273,6 +275,5 @@ static inline int32_t stp_hz_now(unsigned n)
         hz *= 10;
     return s->dir < 0 ? -hz : hz;
 }
-#endif
 
 #endif

@@ -164,3 +164,12 @@ int64_t stp_ssf_grid(int64_t ssf, int turbo)
     uint32_t q = (uint32_t)ssf / lsb;
     return (int64_t)((q ? q : 1u) * lsb);
 }
+
+int32_t stp_scale_call(int32_t c, uint32_t ratio_q16) { return stp_scale(c, ratio_q16); }
+
+uint16_t stp_rate_hz(uint32_t hz)
+{
+    if (hz >= STP_CLK_HZ)
+        return 0xFFFFu;
+    return (uint16_t)stp_divu16(hz << 15, 25000u);   /* hz x 65536 / 50000, rounded down */
+}

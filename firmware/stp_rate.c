@@ -3,25 +3,13 @@
  * register for that tick's distance (stp_servo in stepper.h, the rest
  * here), the creep phase of positioning (5.6, diagram 5.2) and the trim at
  * stand-still, the output of a disabled or tested axis (5.13), ROUT.  The
- * rate arithmetic beside it, every card (unit-tested).
+ * STP's image alone links it (Makefile, FW_STP).
  */
 #include "fw.h"
 #include "hal.h"
 #include "mul16.h"
 #include "stepper.h"
 
-/* ---- rate arithmetic (every card; unit-tested natively) -------------------- */
-int32_t stp_scale_call(int32_t c, uint32_t ratio_q16) { return stp_scale(c, ratio_q16); }
-
-uint16_t stp_rate_hz(uint32_t hz)
-{
-    if (hz >= STP_CLK_HZ)
-        return 0xFFFFu;
-    return (uint16_t)stp_divu16(hz << 15, 25000u);   /* hz x 65536 / 50000, rounded down */
-}
-
-/* ---- the MAC4-STP card ------------------------------------------------------ */
-#if MAC4_CARD == MAC4_CARD_STP
 #include "card.h"
 #include "params.h"
 #include "motion.h"
@@ -285,5 +273,3 @@ int32_t stp_out_steps_sp(unsigned n)
     int32_t q = (int32_t)(uint16_t)divu16(4u * a + 62u, 125u);
     return hz < 0 ? -q : q;
 }
-
-#endif

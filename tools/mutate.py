@@ -84,9 +84,9 @@ MUTATIONS = [
      "if (x->ferr > mf + 1 || x->ferr < -mf) {", ALL, None),
     ("protect-soft-limit", "firmware/motion.c", "} else if (x->linear && (x->pos > x->lp || x->pos < x->ln)) {",
      "} else if (x->linear && (x->pos > x->lp + 1 || x->pos < x->ln)) {", ALL, None),
-    ("protect-hard-limit", "firmware/card.c", "    0, UB(HWL_P), UB(HWL_N), UB(HWL_P) | UB(HWL_N),",
+    ("protect-hard-limit", "firmware/supervise.c", "    0, UB(HWL_P), UB(HWL_N), UB(HWL_P) | UB(HWL_N),",
      "    0, UB(HWL_N), UB(HWL_P), UB(HWL_P) | UB(HWL_N),", ALL, None),
-    ("protect-drive-fault", "firmware/card.c", "        axis_error(n, UB(DR_F), ERR_LOGICAL);",
+    ("protect-drive-fault", "firmware/supervise.c", "        axis_error(n, UB(DR_F), ERR_LOGICAL);",
      "        axis_error(n, UB(DR_F), ERR_SYNTAX);", ALL, None),
     # the command path
     ("cmd-counter", "firmware/cmd.c", "hal_wr32(DPC_COMMANDS, ++n_commands);", "hal_wr32(DPC_COMMANDS, n_commands++);",

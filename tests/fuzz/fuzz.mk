@@ -30,7 +30,7 @@ FZ_COV_CFLAGS   := -std=gnu11 -g -O0 $(FZ_INC) -fprofile-instr-generate -fcovera
 FZ_DEPS  := tests/fuzz/fuzz_card.h tests/fuzz/fuzz_input.h tests/fuzz/fuzz.mk $(FW_HDRS) $(HARNESS_HDRS)
 
 # objects: firmware and targets get libFuzzer's coverage, the harness only the sanitizers
-FZ_FW_OBJS = $(patsubst firmware/%.c,$(B)/fuzz/$(1)-$(2)/fw_%.o,$(FW_SRCS)) \
+FZ_FW_OBJS = $(patsubst firmware/%.c,$(B)/fuzz/$(1)-$(2)/fw_%.o,$(fw_srcs_$(2))) \
              $(patsubst harness/%.c,$(B)/fuzz/$(1)-$(2)/h_%.o,$(HARNESS_CORE)) \
              $(B)/fuzz/$(1)-$(2)/rt_runtime.o $(B)/fuzz/$(1)-$(2)/fuzz_hal.o
 
@@ -173,7 +173,7 @@ fuzz-cov: fuzz-tools $(foreach t,$(FUZZ_TARGETS),$(foreach c,$(FUZZ_CARDS),$(B)/
 		$(LLVM_PROFDATA) merge -o $(B)/fuzz/prof/$$c.profdata $(B)/fuzz/prof/*-$$c.profraw; \
 		echo "== firmware/ covered by the corpus of $(FUZZ_TARGETS) on $$c (work corpora included)"; \
 		$(LLVM_COV) report $${objs# -object} -instr-profile=$(B)/fuzz/prof/$$c.profdata \
-			$(filter firmware/%,$(FW_SRCS)) | grep -v "^---" | \
+			$(filter firmware/%,$(FW_ALL_SRCS)) | grep -v "^---" | \
 			awk 'NR == 1 {print "file           functions  lines    branches"; next} \
 			     {printf "%-14s %-10s %-8s %s\n", $$1, $$7, $$10, $$13}'; \
 	done

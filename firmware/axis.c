@@ -1,0 +1,131 @@
+/*
+ * axis.c - the state of an axis as commands and protective reactions change
+ * it: mode, gains, error, disable, and the tick's copies of the parameters
+ * (axis_prepare), which the main loop refreshes at INIT and E so that the
+ * tick never looks a parameter up.
+ */
+#include "hal.h"
+#include "card.h"
+#include "params.h"
+#include "measure.h"
+#include "motion.h"
+#include "ext.h"
+#include "stepper.h"
+#include "tick.h"
+
+static void axis_output(unsigned n, int32_t out) { axis_output_at(n, out); }
+
+int axis_standstill(unsigned n)
+{
+    uint8_t m = axes[n].mode;
+    if (m == M_DISABLE || m == M_TEST)
+        return 1;
+    return motion_at_rest(n) && !motion_busy(n) && m != M_SPEED && m != M_VEL_TRACK &&
+           m != M_POS_TRACK && !axes[n].stop_then;
+}
+
+/* The only writer of an axis' gains, so that card_servo_general always
+ * says which axes need the general filter (interrupts masked: motion_start) */
+void axis_set_gains(unsigned n, const servo_gains_t *g)
+{
+    axis_at[n]->gains = *g;
+    if (g->full)
+        card_servo_general |= (uint8_t)(1u << n);
+    else
+        card_servo_general &= (uint8_t)~(1u << n);
+}
+
+void axis_set_mode(unsigned n, uint8_t mode)
+{
+    axis_t *x = &axes[n];
+    x->mode = mode;
+    x->ustat = (x->ustat & ~US_MODE_MASK) | mode;
+    if (mode == M_DISABLE) {
+        x->ustat &= ~UB(DR_EN);
+    } else {
+        x->ustat |= UB(DR_EN);
+        meas_cfg[n].failed = 0;                   /* the axis runs: a failure counts again (6.3.8) */
+    }
+    if (MAC4_CARD != MAC4_CARD_STP) {
+        /* /EN follows the mode at once (the servo tick writes only the DAC;
+         * the STP's writes AX_CTRL every tick) */
+        x->ctrl = (uint16_t)((x->ctrl & ~AX_CTRL_EN) | (mode != M_DISABLE ? AX_CTRL_EN : 0));
+        hal_wr16(AX_REG(n, AX_CTRL), x->ctrl);
+    }
+}
+
+void axis_disable(unsigned n)
+{
+    axis_set_mode(n, M_DISABLE);
+    axis_output(n, 0);           /* /EN open, 0 V or no pulses now, not at the next tick */
+    axes[n].stop_then = STOP_NONE;
+    axes[n].stop_settle = 0;
+    axes[n].next_mode = NO_MODE;
+}
+
+void axis_error(unsigned n, uint32_t ubit, uint16_t code)
+{
+    axes[n].ustat |= ubit;
+    axes[n].err_report = code;
+}
+
+void axis_init_measurement(unsigned n)
+{
+    measure_init(n);
+    axes[n].meas_sup = axes[n].meas;
+    ext_axis_init(n);                            /* the extensions follow the new measurement */
+}
+
+/* The part of axis_prepare that follows mode parameters (<mf>): all that
+ * changes at an E on an initialised axis, since system parameters change
+ * only at INIT, which prepares the rest. */
+void axis_prepare_mode(unsigned n)
+{
+    axis_t *x = &axes[n];
+    x->mf = PAR(n, MF);
+    if (MAC4_CARD == MAC4_CARD_STP)
+        x->mf += stp_tol(n);                     /* 4.8.1: the tolerance of <ms>/(4 <es>) */
+    x->in_eval = 1;                              /* the switches again at the next tick */
+}
+
+void axis_prepare(unsigned n)
+{
+    axis_t *x = &axes[n];
+    int32_t et = PAR(n, ET);
+    x->linear = PAR(n, SH) == 1;
+    x->mk = et > 2 ? MK_OTHER : MAC4_CARD == MAC4_CARD_SSI ? (et == 2 && x->linear ? MK_SSI_ABS : MK_SSI)
+                   : et <= 1 ? MK_COUNTER : MK_OTHER;
+    x->cr = PAR(n, CR);
+    x->lp = PAR(n, LP);
+    x->ln = PAR(n, LN);
+    axis_prepare_mode(n);
+    /* switch configuration (4.5): 0 off, 1 low active, 2 high active */
+    static const uint16_t bits[4] = {AX_IN_IESP, AX_IN_IESN, AX_IN_RS, AX_IN_DF};
+    int32_t cfg[4] = {PAR(n, PS), PAR(n, NS), PAR(n, RS), PAR(n, DF)};
+    if (MAC4_CARD == MAC4_CARD_SSI) {
+        /* the SSI receiver reads the encoder at every timer expiry (the
+         * sampling instant): the tick finds the value there, or nearly */
+        uint16_t sync = et <= 2 ? AX_CTRL_SSI_SYNC : 0;
+        x->ctrl = (uint16_t)((x->ctrl & ~AX_CTRL_SSI_SYNC) | sync);
+        hal_wr16(AX_REG(n, AX_CTRL), x->ctrl);
+    }
+    x->sw_en = x->sw_inv = 0;
+    for (unsigned i = 0; i < 4; i++) {
+        if (cfg[i])
+            x->sw_en |= bits[i];
+        if (cfg[i] == 2)
+            x->sw_inv |= bits[i];
+    }
+}
+
+void axis_set_pos(unsigned n)
+{
+    axis_t *x = &axes[n];
+    int32_t pos = pos_add(x->meas, PAR(n, AO));
+    if (!x->linear) {
+        pos %= x->cr;          /* main loop only: a division is fine here */
+        if (pos < 0)
+            pos += x->cr;
+    }
+    x->pos = pos;
+}

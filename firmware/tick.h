@@ -1,0 +1,52 @@
+/*
+ * tick.h - what the two ticks share (tick_servo.c: INC/SSI, tick_stp.c:
+ * STP) and the one output stage of an axis, which the tick and axis.c
+ * (axis_disable: the outputs at once) use.  Inline: the ticks take them
+ * with a constant axis number, as absolute register addresses.
+ */
+#ifndef TICK_H
+#define TICK_H
+#include "hal.h"
+#include "mul16.h"
+#include "card.h"
+#include "stepper.h"
+
+/* The tick's own braking ramp (motion.c brake_now): the speed of this
+ * tick, br_dec closer to 0 ... */
+static inline __attribute__((always_inline)) int32_t brake_slower(const axis_t *x)
+{
+    int32_t v = x->br_v, dv = x->br_dec;
+    if (v > 0)
+        v = v > dv ? v - dv : 0;
+    else if (v < 0)
+        v = v < -dv ? v + dv : 0;
+    return v;
+}
+
+/* ... and the step at that speed. */
+static inline __attribute__((always_inline)) void brake_step(axis_t *x, int32_t v)
+{
+    x->br_v = v;
+    x->br_posh += v;
+}
+
+/* The outputs of axis n: /EN from the mode, and the DAC word (INC/SSI) or,
+ * on the STP, DIR, BOOST, TURBO and the step rate register prepared by
+ * stepper.c (stp_output; `out` is not used: the rate is exact to the Q16
+ * step). */
+static inline __attribute__((always_inline)) void axis_output_at(unsigned n, int32_t out)
+{
+    axis_t *x = &axes[n];
+    PIN_PTR(x);
+    uint16_t ctrl = (uint16_t)(x->ctrl & ~AX_CTRL_EN);
+    if (x->mode != M_DISABLE)
+        ctrl |= AX_CTRL_EN;
+    if (MAC4_CARD == MAC4_CARD_STP)
+        out = stp_output(n, x->mode, &ctrl);
+    x->ctrl = ctrl;
+    x->out = (int16_t)out;
+    hal_wr16(AX_REG(n, AX_CTRL), ctrl);
+    hal_wr16(AX_REG(n, AX_DAC), (uint16_t)out);
+}
+
+#endif

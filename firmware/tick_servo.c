@@ -1,0 +1,119 @@
+/*
+ * tick_servo.c - the timer interrupt of the MAC4-INC and MAC4-SSI (the
+ * Makefile links it for those cards; tick_stp.c is the STP's).  Data flows
+ * one way: position measurement -> the setpoint the profile generator
+ * prepared for this tick -> servo filter -> DAC.  What looks at the result
+ * is the supervision (supervise.c) in the main loop.
+ */
+#include "fw.h"
+#include "hal.h"
+#include "mul16.h"
+#include "card.h"
+#include "params.h"
+#include "measure.h"
+#include "tick.h"
+
+/* The tick does only what must happen at the sampling instant (7.4):
+ * measure, interpolate the setpoint, filter, drive the outputs.  Everything
+ * that looks at the result - switches, protective reactions, stop bits,
+ * status, the DPRAM data - is card_supervise() in the main loop, which
+ * runs before anything else there once per tick. */
+/* One axis of the INC/SSI tick.  Inlined four times with a constant n, so
+ * the registers are absolute addresses and the axis one address register;
+ * ph4 is the tick's phase in the SP times 4 (the row offset in bytes).
+ * /EN follows the mode in axis_set_mode(); here only the DAC. */
+static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned ph4, int general)
+{
+    axis_t *x = &axes[n];
+    PIN_PTR(x);
+    uint8_t mk = x->mk_tick;                      /* MK_NONE before INIT (4.9) */
+    /* the card's own encoder first: one test on the common path */
+    int32_t d;
+    if (MAC4_CARD == MAC4_CARD_INC && mk == MK_COUNTER) {
+        measure_apply(x, measure_counter(x, n));
+    } else if (MAC4_CARD == MAC4_CARD_SSI && mk == MK_SSI_ABS) {   /* the encoder at the connector, absolute, linear */
+        if (measure_ssi(x, n, &d, 1) == 0)
+            measure_apply_k(x, d, 1);
+    } else if (MAC4_CARD == MAC4_CARD_SSI && mk == MK_SSI) {       /* relative, or a circular axis */
+        if (measure_ssi(x, n, &d, 0) == 0)
+            measure_apply(x, d);
+    } else if (mk != MK_NONE) {
+        measure_ext(x, &meas_cfg[n], n);          /* <et> 3/4 (measure.h) */
+    }
+    int16_t u = 0;
+    uint8_t mode = x->mode;
+    if (mode == M_DISABLE) {
+        /* setpoint and following error: card_supervise (tick_result) */
+    } else if (mode == M_TEST) {
+        u = (int16_t)PAR(n, DA);                  /* 5.13: straight to the DAC */
+    } else {
+        int32_t sp;
+        if (!x->braking) {
+            sp = *(const int32_t *)(const void *)((const uint8_t *)x->sp_now + ph4);
+        } else {                                  /* a stop that cannot wait for the next SP */
+            brake_step(x, brake_slower(x));
+            sp = brake_setpoint(x);
+        }
+        int32_t e = pos_sub(sp, x->meas);
+        if (general && x->gains.full)             /* card_servo_general: K-only gains without it */
+            u = servo_filter(&x->servo, &x->gains, e);
+        else
+            u = servo_step_k(&x->servo, &x->gains, e);
+        if (x->ustat & UB(REV_O))                 /* USR (4.2) */
+            u = (int16_t)(u == SERVO_OUT_MIN ? SERVO_OUT_MAX : -u);
+    }
+    x->out = u;
+    hal_wr16(AX_REG(n, AX_DAC), (uint16_t)u);
+}
+
+/* The SP boundary for INC/SSI (the STP's is stp_take_segment), inlined
+ * with a constant n: 1 if late */
+static inline __attribute__((always_inline)) unsigned take_row(unsigned n)
+{
+    axis_t *x = &axes[n];
+    PIN_PTR(x);
+    int32_t *row = x->sp_now;
+    if (x->nx_ready) {
+        x->sp_now = x->sp_next;
+        x->sp_next = row;
+        x->sp_vel = x->sp_vel_next;
+        x->nx_ready = 0;
+        return 0;
+    }
+    if (x->braking)
+        return 0;                                 /* the tick brakes by itself */
+    row[0] = row[1] = row[2] = row[PROFILE_DIVIDER - 1u];
+    x->sp_vel = 0;
+    return x->mode != M_DISABLE && x->mode != M_TEST;
+}
+
+/* The tick, inlined twice: for K-only gains on every axis (the defaults)
+ * and with the general filter inline (card_servo_general) */
+static inline __attribute__((always_inline)) void tick(int general)
+{
+    hal_wr16(TMR_STATUS, TMR_ST_EXPIRED);
+    unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
+    if (phase == 0) {                             /* SP boundary: take the prepared rows */
+        card_profile_late = (uint16_t)(card_profile_late + take_row(0) + take_row(1) + take_row(2) +
+                                       take_row(3));
+        card_profile_due = MAC4_NAXES;
+    }
+    unsigned ph4 = phase * 4u;
+    tick_axis(0, ph4, general);
+    tick_axis(1, ph4, general);
+    tick_axis(2, ph4, general);
+    tick_axis(3, ph4, general);
+    card_ticks++;
+}
+
+static void __attribute__((noinline)) tick_k_only(void) { tick(0); }
+static void __attribute__((noinline)) tick_general(void) { tick(1); }
+
+/* two tail calls: each body saves only the registers it uses */
+void fw_isr_tick(void)
+{
+    if (card_servo_general)
+        tick_general();
+    else
+        tick_k_only();
+}

@@ -1,0 +1,124 @@
+/*
+ * tick_stp.c - the timer interrupt of the MAC4-STP (the Makefile links it
+ * for that card; tick_servo.c is the INC/SSI's): position measurement ->
+ * the setpoint interpolated in the profile generator's SP segment -> the
+ * step rate (stepper.h) -> outputs.  What looks at the result is the
+ * supervision (supervise.c) in the main loop.
+ */
+#include "fw.h"
+#include "hal.h"
+#include "mul16.h"
+#include "card.h"
+#include "measure.h"
+#include "stepper.h"
+#include "tick.h"
+
+/* The STP's position counter (steps, or encoder increments with BR closed)
+ * as the INC's, converted to steps. */
+static inline __attribute__((always_inline)) void stp_tick_measure(unsigned n)
+{
+    axis_t *x = &axes[n];
+    PIN_PTR(x);
+    uint8_t mk = x->mk_tick;
+    if (mk == MK_COUNTER)
+        measure_apply(x, measure_steps(x, n, measure_counter(x, n)));
+    else if (mk != MK_NONE)                       /* MK_NONE: position reads 0 before INIT (4.9) */
+        measure_ext(x, &meas_cfg[n], n);          /* <et> 3/4 (measure.h) */
+}
+
+/* At each SP boundary: take the segment the main loop prepared (motion.c,
+ * next_segment), split into 32-bit parts, which the tick interpolates in
+ * Q16 for the step rate, or hold at the end of the last one; 1 if late.
+ * No 64-bit arithmetic here. */
+static inline __attribute__((always_inline)) int stp_take_segment(unsigned n)
+{
+    axis_t *x = &axes[n];
+    PIN_PTR(x);
+    if (x->braking)
+        return 0;                                /* the tick brakes by itself */
+    if (x->nx_ready) {
+        x->start_i = x->nx_start_i;
+        x->start_f = x->nx_start_f;
+        x->st_i = x->nx_st_i;
+        x->st_f = x->nx_st_f;
+        x->end_i = x->nx_end_i;
+        x->end_f = x->nx_end_f;
+        x->nx_ready = 0;
+        return 0;
+    }
+    x->start_i = x->end_i;
+    x->start_f = x->end_f;
+    x->st_i = 0;
+    x->st_f = 0;
+    return x->mode != M_DISABLE && x->mode != M_TEST;
+}
+
+/* One axis of the STP tick after its measurement: the setpoint, the step
+ * rate (stepper.h), the outputs. */
+static inline __attribute__((always_inline)) void stp_tick_axis(unsigned n, unsigned phase)
+{
+    axis_t *x = &axes[n];
+    PIN_PTR(x);
+    if (x->mode == M_DISABLE) {
+        x->setpoint = x->meas;
+        x->ferr = 0;
+    } else if (x->mode != M_TEST) {
+        /* Setpoint: the SP segment in four steps, integer + Q16 fraction in
+         * 32 bits; the segment's start and end are taken exactly from the
+         * profile. */
+        int32_t old_i = x->sp_i;
+        uint16_t old_f = x->sp_f;
+        if (x->braking) {                        /* a stop that cannot wait for the next SP */
+            int32_t v = brake_slower(x), ssf = x->br_ssf;
+            if (v <= ssf && v >= -ssf) {
+                /* from <ssf> or less a stepper stops at once (5.14); a ramp step
+                 * that would jump from above it to below it ends at <ssf> first */
+                int32_t w = x->br_v;
+                v = w > ssf ? ssf : w < -ssf ? -ssf : 0;
+            }
+            brake_step(x, v);
+            int32_t i;
+            uint16_t f;
+            brake_split(x, &i, &f);              /* into locals: they alias nothing */
+            x->sp_i = i;
+            x->sp_f = f;
+        } else if (phase == 3) {
+            x->sp_i = x->end_i;
+            x->sp_f = x->end_f;
+        } else {
+            if (phase == 0) {
+                x->sp_i = x->start_i;
+                x->sp_f = x->start_f;
+            }
+            uint32_t f = (uint32_t)x->sp_f + x->st_f;
+            x->sp_i = pos_add(pos_add(x->sp_i, x->st_i), (int32_t)(f >> 16));
+            x->sp_f = (uint16_t)f;
+        }
+        x->setpoint = pos_add(x->sp_i, x->sp_f >= 0x8000u);
+        x->ferr = pos_sub(x->setpoint, x->meas);
+        stp_servo(x, n, phase, old_i, old_f);    /* step rate, creep phase, RFE (stepper.h) */
+    }
+    axis_output_at(n, 0);   /* the step rate and DIR, BOOST, TURBO (stp_output); test mode: <da> in Hz */
+}
+
+void fw_isr_tick(void)
+{
+    hal_wr16(TMR_STATUS, TMR_ST_EXPIRED);
+    unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
+    if (phase == 0) {                             /* SP boundary: take the prepared segments */
+        card_profile_late = (uint16_t)(card_profile_late + stp_take_segment(0) + stp_take_segment(1) +
+                                       stp_take_segment(2) + stp_take_segment(3));
+        card_profile_due = MAC4_NAXES;
+    }
+    /* four times with a constant n: absolute register addresses, the axis
+     * in an address register */
+    stp_tick_measure(0);
+    stp_tick_axis(0, phase);
+    stp_tick_measure(1);
+    stp_tick_axis(1, phase);
+    stp_tick_measure(2);
+    stp_tick_axis(2, phase);
+    stp_tick_measure(3);
+    stp_tick_axis(3, phase);
+    card_ticks++;
+}
