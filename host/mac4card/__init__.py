@@ -11,7 +11,7 @@ firmware/commands.def and firmware/status.def).  docs/host-client.md.
 """
 from .card import Card, CardError, Response, Status, Timeout, connect
 from .dictionary import (Command, Dictionary, Mac4Error, check_dictionary, is_number,
-                         load_dictionary, parse_number, s32)
+                         load_dictionary, looks_like_number, parse_number, s32)
 from . import board  # noqa: F401  (the memory map, generated from board/mac4.toml)
 from .paths import find_dictionary, find_sim
 from .telegram import (DLE, NAK, STX, ChecksumError, Garbage, Nak, Telegram, TelegramDecoder,
@@ -22,5 +22,5 @@ __all__ = ["Card", "CardError", "ChecksumError", "Command", "Dictionary", "Garba
            "Nak", "Response", "SerialTransport", "SimTransport", "Status", "Telegram",
            "TelegramDecoder", "Timeout", "TransportError", "check_dictionary", "checksum",
            "connect", "encode_telegram", "find_dictionary", "find_sim", "is_number",
-           "load_dictionary", "open_transport", "parse_number", "s32", "telegram_data",
+           "load_dictionary", "looks_like_number", "open_transport", "parse_number", "s32", "telegram_data",
            "DLE", "NAK", "STX"]

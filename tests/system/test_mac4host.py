@@ -350,18 +350,29 @@ def test_bad_dictionary_names_the_field(tmp_path):
     assert "is a directory" in line
 
 
+def batch_error(r, where):
+    """A batch file's error: `FILE:LINE: message` alone on stderr, exit status 1."""
+    assert r.returncode == mac4host.EXIT_USAGE, (r.returncode, r.stderr)
+    assert "Traceback" not in r.stderr, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(where + ": "), r.stderr
+    return lines[0]
+
+
 def test_batch_not_utf8_is_one_line(tmp_path):
     f = tmp_path / "latin1.txt"
     f.write_bytes(b"0 VER\n0 WAP 16  # Stra\xdfe\n")
-    line = one_line_error(host("batch", str(f)))
-    assert "latin1.txt:2: not UTF-8 text (byte $DF" in line
+    line = batch_error(host("batch", str(f)), "%s:2" % f)
+    assert "not UTF-8 text (byte $DF" in line
     r = subprocess.run(HOST + ["batch", "-"], input=b"\xff\xfe0 VER\n", capture_output=True,
                        timeout=60)
     r.stderr, r.stdout = r.stderr.decode(), r.stdout.decode()
-    assert "stdin:1: not UTF-8 text (byte $FF" in one_line_error(r)
+    assert "not UTF-8 text (byte $FF" in batch_error(r, "stdin:1")
     f.write_bytes(b"0 VER\n\x000 RCP\n")
-    assert "latin1.txt:2: a NUL byte" in one_line_error(host("batch", str(f)))
+    assert "a NUL byte" in batch_error(host("batch", str(f)), "%s:2" % f)
     assert "is a directory" in one_line_error(host("batch", str(tmp_path)))
+    line = one_line_error(host("batch", str(tmp_path / "nosuch.txt")))
+    assert line == "mac4host: %s: No such file or directory" % (tmp_path / "nosuch.txt"), line
 
 
 def test_serial_port_that_does_not_open_is_one_line(tmp_path):
@@ -370,3 +381,138 @@ def test_serial_port_that_does_not_open_is_one_line(tmp_path):
         assert r.returncode == mac4host.EXIT_TRANSPORT and "Traceback" not in r.stderr, r.stderr
         assert r.stderr.startswith("mac4host: cannot open %s: " % port) and \
             len(r.stderr.strip().splitlines()) == 1, r.stderr
+
+
+# ---- numbers: one strict reader for the command line and batch files ----------------
+
+@pytest.mark.parametrize("tok,value", [
+    ("0", 0), ("0100", 100), ("007", 7), ("-5", -5), ("0x10", 16), ("0X1f", 31), ("$ff", 255),
+    ("-0x10", -16), ("-$10", -16), ("4294967295", 0xFFFFFFFF), ("-2147483648", -(1 << 31)),
+    ("0xFFFFFFFF", 0xFFFFFFFF), ("0" * 30 + "1", 1)])
+def test_number_accepted(tok, value):
+    assert mac4host.parse_number(tok, "x") == value
+
+
+BAD_NUMBERS = ["", "+5", "+-5", "--5", "-", "0b101", "0o17", "1_000", "0x1_0", "1.5", "1e3",
+               "nan", "inf", "5abc", " 5", "5 ", "0x", "$", "0x-5", "\uff11\uff12",
+               "4294967296", "-2147483649", "0x100000000", "9" * 5000]
+
+
+@pytest.mark.parametrize("tok", BAD_NUMBERS)
+def test_number_rejected(tok):
+    with pytest.raises(mac4host.Mac4Error) as e:
+        mac4host.parse_number(tok, "widget")
+    assert "widget" in str(e.value) and "\n" not in str(e.value) and len(str(e.value)) < 160
+
+
+def test_number_sign_only_where_negative_and_range_of_the_field():
+    assert mac4host.parse_number("255", "axis", 0, 255) == 255
+    for tok in ("-1", "-0", "256", "0x100"):
+        with pytest.raises(mac4host.Mac4Error, match="axis"):
+            mac4host.parse_number(tok, "axis", 0, 255)
+    assert mac4host.parse_number("-0", "p") == 0                    # signed field
+
+
+@pytest.mark.parametrize("tok,ok", [("0.5", 0.5), (".5", 0.5), ("2", 2.0), ("3600", 3600.0),
+                                    ("1e3", None), ("nan", None), ("inf", None), ("-1", None),
+                                    ("+1", None), ("0x10", None), ("5.", None), ("1_0", None),
+                                    ("3600.5", None), ("", None)])
+def test_fraction_for_times(tok, ok):
+    if ok is None:
+        with pytest.raises(mac4host.Mac4Error):
+            mac4host.parse_number(tok, "t", 0.001, 3600, fraction=True)
+    else:
+        assert mac4host.parse_number(tok, "t", 0.001, 3600, fraction=True) == ok
+
+
+@pytest.fixture
+def fake_sim(tmp_path):
+    """build/mac4sim behind a wrapper that leaves a file when it starts."""
+    started = tmp_path / "started"
+    fake = tmp_path / "fakesim"
+    fake.write_text("#!/bin/sh\ntouch %s\nexec %s \"$@\"\n" % (started, SIM))
+    fake.chmod(0o755)
+    return str(fake), started
+
+
+@pytest.mark.parametrize("args,what", [
+    (["send", "+0", "VER"], "axis"), (["send", "0x100", "VER"], "axis"),
+    (["send", "-1", "VER"], "axis"), (["send", "0", "WAP", "1_000"], "parameter for WAP"),
+    (["send", "0", "WAP", "16.0"], "parameter for WAP"), (["send", "0", "WAP", "0b11"], "WAP"),
+    (["send", "0", "WAP", "4294967296"], "WAP"), (["send", "0", "RCP", "0", "1.5"], "code"),
+    (["send", "0", "VER", "0", "70000"], "code"), (["send", "0", "VER", "0", "-7"], "code"),
+    (["send", "0", "VER", "0", "0x"], "code")])
+def test_bad_number_on_the_command_line_sends_nothing(fake_sim, args, what):
+    fake, started = fake_sim
+    line = one_line_error(host("--sim-path", fake, *args))
+    assert what in line, line
+    assert not started.exists()
+
+
+def test_numbers_in_decode():
+    r = host("decode", "user", "0100")                        # decimal, not octal
+    assert r.returncode == 0 and "0x00000064" in r.stdout, r.stdout
+    assert host("decode", "user", "$64").stdout == r.stdout
+    for args in (["decode", "user", "-1"], ["decode", "user", "0b1"], ["decode", "user", "1_0"],
+                 ["decode", "user", "0x100000000"], ["decode", "response", "1.6e2", "0"],
+                 ["decode", "response", "-161", "0"], ["decode", "response", "161", "nan"],
+                 ["decode", "response", "7", "0", "--axis", "-1"]):
+        one_line_error(host(*args))
+    r = host("--json", "decode", "response", "116", "-5")      # a signed parameter
+    assert json.loads(r.stdout)["value"] == -5
+
+
+def test_batch_wait_takes_0_to_3600000_ms(tmp_path):
+    steps = mac4host.parse_batch(DICT, ["wait 0", "run 3600000", "sleep 0x10", "wait 0100"])
+    assert [s.wait_ms for s in steps] == [0, 3600000, 16, 100]
+    for bad in ("1.5", "-1", "3600001", "nan", "inf", "1e3", "+5", "10ms", "1_000"):
+        with pytest.raises(mac4host.BatchError) as e:
+            mac4host.parse_batch(DICT, ["0 VER", "wait %s" % bad], name="b.txt")
+        assert str(e.value).startswith("b.txt:2: ") and "wait" in str(e.value), str(e.value)
+    with pytest.raises(mac4host.BatchError, match=r"^b.txt:1: wait needs MS"):
+        mac4host.parse_batch(DICT, ["wait"], name="b.txt")
+
+
+@pytest.mark.parametrize("line,what", [
+    ("wait 1.5", "wait"), ("wait 3600001", "wait"), ("wait", "wait needs MS"),
+    ("0 WAP 1e3", "parameter for WAP"), ("0 WAP +16", "parameter for WAP"),
+    ("0x 0 VER", "axis"), ("0 NOSUCH", "unknown mnemonic"), ("0 VER extra words", "expected"),
+    ("1_0 VER", "axis")])
+def test_batch_errors_are_file_line_message_and_nothing_is_sent(tmp_path, fake_sim, line, what):
+    fake, started = fake_sim
+    f = tmp_path / "b.txt"
+    f.write_text("# first line\n0 VER\n%s\n0 RCP\n" % line)
+    err = batch_error(host("--sim-path", fake, "batch", str(f)), "%s:3" % f)
+    assert what in err, err
+    assert not started.exists()
+    err = batch_error(host("--sim-path", fake, "batch", "-", stdin="%s\n" % line), "stdin:1")
+    assert what in err and not started.exists(), err
+
+
+# ---- option errors: exit status 1 like every usage error, not argparse's 2 ----------
+
+@pytest.mark.parametrize("args", [
+    ["--card", "bogus", "dict"], ["--sim", "xyz", "send", "0", "VER"], ["--frobnicate", "dict"],
+    ["send"], [], ["bogus-command"], ["--timeout", "nan", "send", "0", "VER"],
+    ["--timeout", "1e3", "send", "0", "VER"], ["--timeout", "0", "send", "0", "VER"],
+    ["--retries", "1.5", "send", "0", "VER"], ["--retries", "-1", "send", "0", "VER"],
+    ["--retries", "0b1", "send", "0", "VER"], ["--sim-max-ms", "inf", "send", "0", "VER"],
+    ["send", "0", "VER", "--sim-max-ms", "-5"], ["decode"]])
+def test_option_errors_exit_1(fake_sim, args):
+    fake, started = fake_sim
+    r = host("--sim-path", fake, *args)
+    assert r.returncode == mac4host.EXIT_USAGE != mac4host.EXIT_TRANSPORT, (r.returncode, r.stderr)
+    assert "Traceback" not in r.stderr and "error:" in r.stderr and "usage:" in r.stderr, r.stderr
+    assert r.stdout == "" and not started.exists()
+
+
+def test_help_exits_0():
+    r = host("--help")
+    assert r.returncode == 0 and "Exit status" in r.stdout and "130" in r.stdout
+
+
+def test_negative_hex_parameter_after_double_dash():
+    r = host("--json", "send", "--", "0", "WAP", "-0x10", "RAP")
+    rs = responses(r.stdout)
+    assert r.returncode == 0 and [x["code"] for x in rs] == [70, 71], r.stdout + r.stderr
+    assert rs[0]["sent"]["param"] == 0xFFFFFFF0 and rs[1]["value"] == -16
