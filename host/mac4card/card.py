@@ -22,7 +22,10 @@ class Timeout(TimeoutError):
 @dataclass
 class Status:
     """A status word decoded: `bits` the names of the bits set, `mode` the
-    mode's name (user status), `value` the word."""
+    mode's name (user status), `value` the word.  A name the manual gives to
+    several bits of a word is NAME@BIT in `bits` (dr_disable@10,
+    dr_disable@22 of the system status); `"dr_disable" in status` is true
+    for either, `"dr_disable@22" in status` for that bit only."""
     word: str
     value: int
     bits: frozenset
@@ -30,7 +33,7 @@ class Status:
     fields: dict = field(default_factory=dict, repr=False)
 
     def __contains__(self, name):
-        return name in self.bits
+        return name in self.bits or any(b.split("@", 1)[0] == name for b in self.bits)
 
     def __str__(self):
         return "%s status 0x%08X%s: %s" % (self.word, self.value,
@@ -249,7 +252,7 @@ class Card:
                 if self.ack_errors:
                     self.acknowledge(axis, err)
                 raise err
-            if bit in user.bits or bit in overall.bits:
+            if bit in user or bit in overall:
                 return user
             if self.t.clock() - t0 >= timeout:
                 raise Timeout("axis %d: no %s within %g s | %s" % (axis, bit, timeout, user),

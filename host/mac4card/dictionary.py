@@ -218,17 +218,31 @@ class Dictionary:
         return None
 
     # -- decoding --
+    def bit_keys(self, word):
+        """(key, entry) of every entry of a status word.  The key is the
+        manual's name, or NAME@BIT where the manual gives one name to several
+        bits of the word (system status bits 10 and 22, both dr_disable,
+        7.1.2), so that each bit stays a key of its own."""
+        entries = [b for b in self.status[word] if "bit" in b]
+        seen = {}
+        for b in entries:
+            seen[b["name"]] = seen.get(b["name"], 0) + 1
+        return [("%s@%d" % (b["name"], b["bit"]) if seen[b["name"]] > 1 else b["name"], b)
+                for b in entries]
+
     def decode_status(self, word, value):
         """Decode a status word: {"word", "value", "hex", "fields", "bits",
-        "bit_descriptions", "undefined_bits"}.  A field of several bits (the
-        user status' mode, bits 0-7) is named from the dictionary's list of the
-        same name plus "s" ("mode" -> "modes")."""
+        "bit_descriptions", "bit_numbers", "undefined_bits"}.  "bits" lists the
+        keys of the bits set (bit_keys(): the name, NAME@BIT for a name the
+        manual gives to several bits), "bit_numbers" their bit numbers.  A
+        field of several bits (the user status' mode, bits 0-7) is named from
+        the dictionary's list of the same name plus "s" ("mode" -> "modes")."""
         if word not in self.status_words:
             raise Mac4Error("unknown status word '%s' (one of: %s)"
                             % (word, ", ".join(self.status_words)))
         value &= 0xFFFFFFFF
-        fields, bits, descs, covered = {}, [], {}, 0
-        for b in self.status[word]:
+        fields, bits, descs, numbers, covered = {}, [], {}, {}, 0
+        for key, b in self.bit_keys(word):
             width = b.get("width", 1)
             mask = ((1 << width) - 1) << b["bit"]
             covered |= mask
@@ -241,11 +255,13 @@ class Dictionary:
                     f["name"] = names[0] if names else None
                 fields[b["name"]] = f
             elif v:
-                bits.append(b["name"])
-                descs[b["name"]] = b.get("description", "")
+                bits.append(key)
+                descs[key] = b.get("description", "")
+                numbers[key] = b["bit"]
         undefined = [i for i in range(32) if value >> i & 1 and not covered >> i & 1]
         return {"word": word, "value": value, "hex": "0x%08X" % value, "fields": fields,
-                "bits": bits, "bit_descriptions": descs, "undefined_bits": undefined}
+                "bits": bits, "bit_descriptions": descs, "bit_numbers": numbers,
+                "undefined_bits": undefined}
 
     @staticmethod
     def status_summary(st):

@@ -516,3 +516,35 @@ def test_negative_hex_parameter_after_double_dash():
     rs = responses(r.stdout)
     assert r.returncode == 0 and [x["code"] for x in rs] == [70, 71], r.stdout + r.stderr
     assert rs[0]["sent"]["param"] == 0xFFFFFFF0 and rs[1]["value"] == -16
+
+
+# ---- a name the manual gives two bits: system status 10 and 22, both dr_disable -----
+
+def test_dr_disable_bits_10_and_22_stay_apart():
+    named = [b["bit"] for b in DICT.status["system"] if b.get("name") == "dr_disable"]
+    assert named == [10, 22]                          # the manual's names, kept (7.1.2)
+    both = DICT.decode_status("system", 1 << 10 | 1 << 22 | 1)
+    assert both["bits"] == ["m_rdy", "dr_disable@10", "dr_disable@22"]
+    assert both["bit_numbers"] == {"m_rdy": 0, "dr_disable@10": 10, "dr_disable@22": 22}
+    d10, d22 = both["bit_descriptions"]["dr_disable@10"], both["bit_descriptions"]["dr_disable@22"]
+    assert "interlocking" in d10 and d22 == "MAC4-STP: internal control bit"
+    for bit in (10, 22):
+        st = DICT.decode_status("system", 1 << bit)
+        assert st["bits"] == ["dr_disable@%d" % bit] and not st["undefined_bits"]
+    # the package's Status: each bit by its key, either by the manual's name
+    sys.path.insert(0, os.path.join(ROOT, "host"))
+    from mac4card.card import _status
+    st = _status(DICT.decode_status("system", 1 << 22))
+    assert "dr_disable@22" in st and "dr_disable" in st and "dr_disable@10" not in st
+    assert st.bits == {"dr_disable@22"} and len(_status(both).bits) == 3
+    assert "m_rdy" not in st and "dr_disable" not in _status(DICT.decode_status("system", 1))
+
+
+def test_dr_disable_decoded_apart_on_the_command_line():
+    r = host("decode", "system", "0x400400")
+    assert r.returncode == 0, r.stderr
+    assert "system status dr_disable@10 dr_disable@22" in r.stdout
+    lines = [l.split(None, 1) for l in r.stdout.splitlines()[1:]]
+    assert [l[0] for l in lines] == ["dr_disable@10", "dr_disable@22"] and lines[0][1] != lines[1][1]
+    j = json.loads(host("--json", "decode", "system", "0x400000").stdout)
+    assert j["bits"] == ["dr_disable@22"] and j["bit_numbers"] == {"dr_disable@22": 22}
