@@ -20,6 +20,7 @@ so `import mac4host` keeps working:
 import argparse
 import json
 import os
+import re
 import sys
 from dataclasses import dataclass
 
@@ -29,7 +30,8 @@ sys.path.insert(0, os.path.join(ROOT, "host"))      # the package, from the chec
 from mac4card import (ChecksumError, Command, Dictionary, Garbage, Mac4Error, Nak,  # noqa: E402,F401
                   SerialTransport, SimTransport, Telegram, TelegramDecoder, TransportError,
                   checksum, encode_telegram, find_dictionary, find_sim, is_number,
-                  load_dictionary, looks_like_number, parse_number, s32, telegram_data)
+                  load_dictionary, looks_like_number, parse_number, read_fault_record, s32,
+                  telegram_data)
 
 DEFAULT_DICT = find_dictionary()
 DEFAULT_SIM = find_sim()
@@ -45,6 +47,10 @@ class BatchError(Mac4Error):
 
 
 # ---- the client ------------------------------------------------------------------
+
+# emulator lines that say the card restarted (a watchdog reset after a fault,
+# MR, the reset button) or stopped at "F." after an unexpected exception (J11 out)
+RESTART = re.compile(r"(?:@\S+ )?(reset \w+|display F\.)")
 
 @dataclass
 class Step:
@@ -66,6 +72,8 @@ class Client:
         self.verbose = verbose
         self.card_errors = 0
         self.results = []
+        self.fault_records = []
+        self.restarted = None       # the line that said the card restarted, until looked at
 
     def emit(self, obj, text):
         if self.json:
@@ -75,12 +83,38 @@ class Client:
 
     def event(self, source, text):
         self.emit({"type": "event", "source": source, "text": text}, "%s: %s" % (source, text))
+        m = RESTART.fullmatch(text) if source == "sim" else None
+        if m:
+            self.restarted = m.group(1)           # the latest: "reset watchdog" after "F."
+
+    def fault_record(self, trigger):
+        """Print the card's fault record (DPRAM $4010-$401C, count $4068) if
+        the card has one; nothing where the transport does not reach the
+        DPRAM (a serial line)."""
+        if not getattr(self.t, "dpram", False):
+            return None
+        rec = read_fault_record(self.t.peek32)
+        if rec is not None:
+            self.fault_records.append(rec)
+            self.emit(dict(type="fault_record", trigger=trigger, **rec),
+                      "fault record: %s" % rec["text"])
+        return rec
+
+    def check_faults(self, step=None):
+        """After a status read (RAS, RBS, RSS) or once the card has restarted."""
+        trigger, self.restarted = self.restarted, None
+        if trigger is None and step is not None and step.cmd is not None \
+                and step.cmd.is_read and step.cmd.status_word():
+            trigger = step.cmd.mnemonic
+        if trigger is not None:
+            self.fault_record(trigger)
 
     def run(self, steps):
         errors = set(self.d.errors)
         for s in steps:
             if s.wait_ms is not None:
                 self.t.wait(s.wait_ms)
+                self.check_faults()
                 continue
             if self.verbose:
                 self.emit({"type": "sent", "axis": s.axis, "code": s.cmd.code, "param": s.param},
@@ -96,6 +130,7 @@ class Client:
                 self.card_errors += 1
             self.results.append(ex)
             self.emit(ex, "%-22s %s" % (ex["raw"], ex["text"]))
+            self.check_faults(s)
         return self.results
 
 
@@ -322,8 +357,14 @@ def cmd_send(d, args, steps):
     client.t = t
     try:
         t.open()
+        client.check_faults()                     # a restart while it booted
         client.run(steps)
     except TransportError as e:
+        if client.restarted:                      # why, if the card can still tell
+            try:
+                client.check_faults()
+            except TransportError:
+                pass
         print("mac4host: %s" % e, file=sys.stderr)
         t.close()
         return EXIT_TRANSPORT

@@ -8,6 +8,7 @@ axis 0 is the manual's axis 1).
 from dataclasses import dataclass, field
 
 from .dictionary import Mac4Error, load_dictionary, parse_number
+from .faults import read_fault_record
 from .transport import TransportError, open_transport
 
 
@@ -225,6 +226,16 @@ class Card:
         if cmd is None:
             raise Mac4Error("no read command for the %s status in the dictionary" % word)
         return self.command(cmd.mnemonic, 0, axis).status
+
+    def fault_record(self):
+        """The card's fault record (mac4card.faults.decode_fault_record: vector,
+        exception, pc, sr, address, count, text), or None when the card has
+        recorded no fault since power-on.  It lives in the DPRAM: a transport
+        that does not reach it (a serial line) raises Mac4Error."""
+        if not getattr(self.t, "dpram", False):
+            raise Mac4Error("the fault record is in the card's DPRAM, which a %s transport "
+                            "does not reach" % getattr(self.t, "name", "this"))
+        return read_fault_record(self.t.peek32)
 
     # -- events --
     def wait_for(self, bit, axis=0, timeout=10.0, poll_ms=10):

@@ -3,6 +3,7 @@ status decoding, the dictionary listing, and commands end to end through the
 emulator (its host script, and its serial line on a pseudo-terminal)."""
 import json
 import os
+import re
 import select
 import subprocess
 import sys
@@ -15,6 +16,7 @@ from conftest import ROOT, SIM
 
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import mac4host  # noqa: E402
+from mac4card import board as B, faults  # noqa: E402  (the path: mac4host's)
 
 HOST = [sys.executable, os.path.join(ROOT, "tools", "mac4host.py")]
 DICT = mac4host.load_dictionary()
@@ -532,7 +534,6 @@ def test_dr_disable_bits_10_and_22_stay_apart():
         st = DICT.decode_status("system", 1 << bit)
         assert st["bits"] == ["dr_disable@%d" % bit] and not st["undefined_bits"]
     # the package's Status: each bit by its key, either by the manual's name
-    sys.path.insert(0, os.path.join(ROOT, "host"))
     from mac4card.card import _status
     st = _status(DICT.decode_status("system", 1 << 22))
     assert "dr_disable@22" in st and "dr_disable" in st and "dr_disable@10" not in st
@@ -548,3 +549,161 @@ def test_dr_disable_decoded_apart_on_the_command_line():
     assert [l[0] for l in lines] == ["dr_disable@10", "dr_disable@22"] and lines[0][1] != lines[1][1]
     j = json.loads(host("--json", "decode", "system", "0x400000").stdout)
     assert j["bits"] == ["dr_disable@22"] and j["bit_numbers"] == {"dr_disable@22": 22}
+
+
+# ---- the fault record (DPRAM $4010-$401C, count $4068) -------------------------------
+
+TIMER_VECTOR = 4 * (24 + B.IRQ_LEVEL_TIMER)
+BAD = 0x100001                  # odd: the timer's vector fetch ends in an address error
+RECORD_RE = (r"^fault record: exception 3 \(address error\) pc=\$100001 sr=\$26[0-9A-F]{2} "
+             r"address=\$100001; (\d+) fault\(s\) since power-on$")
+
+
+@pytest.fixture
+def faulting_sim(tmp_path):
+    """build/mac4sim that takes one stray host write into the live vector
+    table once booted, before mac4host's script: a fault, then the
+    watchdog's restart (J11 in), as in tests/system/test_fault_restart.py."""
+    w = tmp_path / "faultsim"
+    w.write_text("#!/bin/sh\n{ printf 'wait-display 5\\npoke32 0x%04X 0x%X\\nrun 400\\n'; cat; } "
+                 "| exec %s \"$@\"\n" % (TIMER_VECTOR, BAD, SIM))
+    w.chmod(0o755)
+    return ["--sim-path", str(w), "--sim-arg=--allow-faults"]
+
+
+def fault_lines(stdout):
+    return [l for l in stdout.splitlines() if l.startswith("fault record")]
+
+
+def test_exception_names_from_the_vector_number():
+    assert [faults.exception_name(v) for v in (2, 3, 4, 5, 8, 10, 11)] == [
+        "bus error", "address error", "illegal instruction", "zero divide",
+        "privilege violation", "line 1010 emulator", "line 1111 emulator"]
+    assert faults.exception_name(15) == "uninitialized interrupt vector"
+    assert faults.exception_name(24 + 6) == "level 6 interrupt autovector"
+    assert faults.exception_name(32 + 15) == "TRAP #15 instruction"
+    assert faults.exception_name(12) == "reserved vector"
+    assert faults.exception_name(200) == "user interrupt vector"
+    assert faults.exception_name(256) == "not a 68000 vector number"
+
+
+def test_fault_record_layout_from_the_board():
+    assert [off for _, off in faults.RECORD] == [B.DPC_FAULT_VECTOR, B.DPC_FAULT_PC,
+                                                 B.DPC_FAULT_SR, B.DPC_FAULT_ADDR,
+                                                 B.DPC_FAULT_COUNT]
+    zero = dict.fromkeys(("vector", "pc", "sr", "address", "count"), 0)
+    assert faults.decode_fault_record(zero) is None                 # power-on: none
+    rec = faults.decode_fault_record(dict(zero, vector=4, pc=0x10ABCD, sr=0x2700, count=2,
+                                          address=0x1234))
+    assert rec["address"] is None and rec["exception"] == "illegal instruction"
+    assert rec["text"] == ("exception 4 (illegal instruction) pc=$10ABCD sr=$2700; "
+                           "2 fault(s) since power-on")
+    got = []
+    rec = faults.read_fault_record(lambda offs: got.extend(offs) or [2, 0x100F00, 0x2604,
+                                                                     0xF01000, 1])
+    assert got == [off for _, off in faults.RECORD]
+    assert rec["text"] == ("exception 2 (bus error) pc=$100F00 sr=$2604 address=$F01000; "
+                           "1 fault(s) since power-on")
+
+
+def test_no_fault_record_after_power_on():
+    r = host("--json", "send", "0", "RBS", "RSS", "RAS")
+    assert r.returncode == 0, r.stderr
+    objs = [json.loads(l) for l in r.stdout.splitlines()]
+    assert [o["code"] for o in objs if o["type"] == "response"] == [125, 126, 124]
+    assert not [o for o in objs if o["type"] == "fault_record"], r.stdout
+
+
+def test_fault_record_after_restart_and_status_reads(faulting_sim):
+    r = host(*faulting_sim, "send", "0", "VER", "RBS", "RCP", "RSS", "RAS")
+    assert r.returncode == 0, r.stderr
+    lines = r.stdout.splitlines()
+    recs = [i for i, l in enumerate(lines) if l.startswith("fault record")]
+    assert all(re.match(RECORD_RE, lines[i]) and re.match(RECORD_RE, lines[i]).group(1) == "1"
+               for i in recs), lines
+    # once for the restart (before VER's answer), once after each status read
+    after = [lines[i - 1].split()[1] if not lines[i - 1].startswith("sim:") else "restart"
+             for i in recs]
+    assert after == ["restart", "125", "126", "124"], lines
+    assert lines[recs[0] - 1] == "sim: display 5" and "sim: reset watchdog" in lines[:recs[0]]
+    j = host("--json", *faulting_sim, "send", "0", "RBS")
+    objs = [json.loads(l) for l in j.stdout.splitlines()]
+    fr = [o for o in objs if o["type"] == "fault_record"]
+    assert [o["trigger"] for o in fr] == ["reset watchdog", "RBS"], j.stdout
+    o = fr[1]
+    assert (o["vector"], o["exception"], o["pc"], o["address"], o["count"]) == \
+        (3, "address error", BAD, BAD, 1)
+    assert o["sr"] & 0x2700 == 0x2600                   # in the level-6 interrupt
+    assert o["text"] in lines[recs[1]]
+
+
+def test_fault_record_after_a_restart_in_a_batch(faulting_sim):
+    """MR restarts the card through the watchdog too: the record of the earlier
+    fault is still there, with the same count."""
+    r = host("--json", *faulting_sim, "batch", "-", stdin="0 VER\n0 MR\nwait 1500\n0 RCP\n")
+    assert r.returncode == 0, r.stderr
+    objs = [json.loads(l) for l in r.stdout.splitlines()]
+    seq = [o["type"] if o["type"] != "response" else o["code"] for o in objs
+           if o["type"] in ("fault_record", "response")]
+    assert seq == ["fault_record", 7, 6, "fault_record", 116], seq
+    assert [o["count"] for o in objs if o["type"] == "fault_record"] == [1, 1]
+
+
+def test_fault_record_when_the_card_stays_at_f(faulting_sim):
+    """J11 out: no restart, the card stops at "F."; the client reports why it
+    does not answer."""
+    r = host(*faulting_sim, "--sim-arg=--j11", "--sim-arg=out", "send", "0", "VER")
+    assert r.returncode == mac4host.EXIT_TRANSPORT and "did not boot" in r.stderr, r.stderr
+    recs = fault_lines(r.stdout)
+    assert len(recs) == 1 and re.match(RECORD_RE, recs[0]), r.stdout
+    assert "Traceback" not in r.stderr
+
+
+def test_card_fault_record_in_the_package(faulting_sim):
+    from mac4card import Card, SimTransport
+    t = SimTransport(card="inc", sim_path=faulting_sim[1], sim_args=["--allow-faults"])
+    with Card(t, DICT, card="inc").open() as card:
+        rec = card.fault_record()
+    assert (rec["vector"], rec["pc"], rec["count"]) == (3, BAD, 1)
+    with Card(SimTransport(card="inc"), DICT, card="inc").open() as card:
+        assert card.fault_record() is None
+
+
+def fake_serial_card(master, answers, seen):
+    """A card on a pseudo-terminal: answers each telegram with the user status
+    (RBS, ... are answered too; a serial line carries nothing else)."""
+    dec = mac4host.TelegramDecoder()
+    deadline = time.monotonic() + 20
+    while len(seen) < answers and time.monotonic() < deadline:
+        r, _, _ = select.select([master], [], [], 0.2)
+        if r:
+            for ev in dec.feed(os.read(master, 64)):
+                if isinstance(ev, mac4host.Telegram):
+                    seen.append(ev)
+                    os.write(master, mac4host.encode_telegram(ev.axis, ev.code, 0x02000101))
+
+
+def test_no_fault_record_over_a_serial_line():
+    """The DPRAM is not reachable over the front-panel line: no record, and
+    no claim that there is none; the package says so."""
+    master, slave = os.openpty()
+    seen = []
+    t = threading.Thread(target=fake_serial_card, args=(master, 3, seen), daemon=True)
+    t.start()
+    try:
+        r = host("--json", "--serial", os.ttyname(slave), "send", "0", "RBS", "RSS", timeout=30)
+        from mac4card import Card, Mac4Error, SerialTransport
+        card = Card(SerialTransport(os.ttyname(slave)), DICT, card="inc")
+        card.open()
+        card.command("RBS")
+        with pytest.raises(Mac4Error, match="DPRAM"):
+            card.fault_record()
+        card.close()
+    finally:
+        t.join(5)
+        os.close(master)
+        os.close(slave)
+    assert r.returncode == 0, r.stderr
+    objs = [json.loads(l) for l in r.stdout.splitlines()]
+    assert [o["code"] for o in objs if o["type"] == "response"] == [125, 126]
+    assert not [o for o in objs if o["type"] == "fault_record"] and "fault" not in r.stdout
