@@ -40,6 +40,7 @@ DEFAULT_SIM = find_sim()
 # turned into EXIT_USAGE (Parser below), so 2 always means the transport.
 EXIT_OK, EXIT_USAGE, EXIT_TRANSPORT, EXIT_CARD_ERROR, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
 WAIT_MAX_MS = 3600000           # a batch `wait`: at most an hour, as mac4sim's `run`
+BATCH_MAX_BYTES = 1 << 20       # some 100000 commands; read no further
 
 
 class BatchError(Mac4Error):
@@ -179,18 +180,20 @@ def parse_send_args(dictionary, tokens, card=None):
 
 def read_batch_file(path):
     """The lines of a batch file ('-': standard input), which must be UTF-8
-    text (ASCII in practice)."""
+    text (ASCII in practice) of at most BATCH_MAX_BYTES."""
     name = "stdin" if path == "-" else path
     try:
         if path == "-":
-            data = sys.stdin.buffer.read()
+            data = sys.stdin.buffer.read(BATCH_MAX_BYTES + 1)
         else:
             with open(path, "rb") as f:
-                data = f.read()
+                data = f.read(BATCH_MAX_BYTES + 1)
     except IsADirectoryError:
         raise Mac4Error("%s: is a directory, not a batch file" % name) from None
     except OSError as e:
         raise Mac4Error("%s: %s" % (name, e.strerror or e)) from None
+    if len(data) > BATCH_MAX_BYTES:                # /dev/zero, a disk image: not a batch
+        raise Mac4Error("%s: more than %d bytes: not a batch file" % (name, BATCH_MAX_BYTES))
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as e:

@@ -375,6 +375,10 @@ def test_batch_not_utf8_is_one_line(tmp_path):
     assert "is a directory" in one_line_error(host("batch", str(tmp_path)))
     line = one_line_error(host("batch", str(tmp_path / "nosuch.txt")))
     assert line == "mac4host: %s: No such file or directory" % (tmp_path / "nosuch.txt"), line
+    line = one_line_error(host("batch", "/dev/zero", timeout=60))    # read no further
+    assert line == "mac4host: /dev/zero: more than 1048576 bytes: not a batch file", line
+    f.write_bytes(b"0 VER\n" * (1 << 20))
+    assert "not a batch file" in one_line_error(host("batch", "-", stdin=f.read_text()))
 
 
 def test_serial_port_that_does_not_open_is_one_line(tmp_path):
