@@ -20,6 +20,7 @@ so `import mac4host` keeps working:
 import argparse
 import json
 import os
+import re
 import sys
 from dataclasses import dataclass
 
@@ -29,15 +30,28 @@ sys.path.insert(0, os.path.join(ROOT, "host"))      # the package, from the chec
 from mac4card import (ChecksumError, Command, Dictionary, Garbage, Mac4Error, Nak,  # noqa: E402,F401
                   SerialTransport, SimTransport, Telegram, TelegramDecoder, TransportError,
                   checksum, encode_telegram, find_dictionary, find_sim, is_number,
-                  load_dictionary, parse_number, s32, telegram_data)
+                  load_dictionary, looks_like_number, parse_number, read_fault_record, s32,
+                  telegram_data)
 
 DEFAULT_DICT = find_dictionary()
 DEFAULT_SIM = find_sim()
 
-EXIT_OK, EXIT_USAGE, EXIT_TRANSPORT, EXIT_CARD_ERROR = 0, 1, 2, 3
+# Exit statuses (docs/host-client.md); argparse's own 2 for a bad option is
+# turned into EXIT_USAGE (Parser below), so 2 always means the transport.
+EXIT_OK, EXIT_USAGE, EXIT_TRANSPORT, EXIT_CARD_ERROR, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
+WAIT_MAX_MS = 3600000           # a batch `wait`: at most an hour, as mac4sim's `run`
+BATCH_MAX_BYTES = 1 << 20       # some 100000 commands; read no further
+
+
+class BatchError(Mac4Error):
+    """A batch file's fault, already worded `FILE:LINE: message`."""
 
 
 # ---- the client ------------------------------------------------------------------
+
+# emulator lines that say the card restarted (a watchdog reset after a fault,
+# MR, the reset button) or stopped at "F." after an unexpected exception (J11 out)
+RESTART = re.compile(r"(?:@\S+ )?(reset \w+|display F\.)")
 
 @dataclass
 class Step:
@@ -45,7 +59,7 @@ class Step:
     cmd: Command
     param: int
     token: str = ""
-    wait_ms: float = None       # a `wait MS` line of a batch file instead of a command
+    wait_ms: int = None         # a `wait MS` line of a batch file instead of a command
 
 
 class Client:
@@ -59,6 +73,8 @@ class Client:
         self.verbose = verbose
         self.card_errors = 0
         self.results = []
+        self.fault_records = []
+        self.restarted = None       # the line that said the card restarted, until looked at
 
     def emit(self, obj, text):
         if self.json:
@@ -68,12 +84,38 @@ class Client:
 
     def event(self, source, text):
         self.emit({"type": "event", "source": source, "text": text}, "%s: %s" % (source, text))
+        m = RESTART.fullmatch(text) if source == "sim" else None
+        if m:
+            self.restarted = m.group(1)           # the latest: "reset watchdog" after "F."
+
+    def fault_record(self, trigger):
+        """Print the card's fault record (DPRAM $4010-$401C, count $4068) if
+        the card has one; nothing where the transport does not reach the
+        DPRAM (a serial line)."""
+        if not getattr(self.t, "dpram", False):
+            return None
+        rec = read_fault_record(self.t.peek32)
+        if rec is not None:
+            self.fault_records.append(rec)
+            self.emit(dict(type="fault_record", trigger=trigger, **rec),
+                      "fault record: %s" % rec["text"])
+        return rec
+
+    def check_faults(self, step=None):
+        """After a status read (RAS, RBS, RSS) or once the card has restarted."""
+        trigger, self.restarted = self.restarted, None
+        if trigger is None and step is not None and step.cmd is not None \
+                and step.cmd.is_read and step.cmd.status_word():
+            trigger = step.cmd.mnemonic
+        if trigger is not None:
+            self.fault_record(trigger)
 
     def run(self, steps):
         errors = set(self.d.errors)
         for s in steps:
             if s.wait_ms is not None:
                 self.t.wait(s.wait_ms)
+                self.check_faults()
                 continue
             if self.verbose:
                 self.emit({"type": "sent", "axis": s.axis, "code": s.cmd.code, "param": s.param},
@@ -89,13 +131,12 @@ class Client:
                 self.card_errors += 1
             self.results.append(ex)
             self.emit(ex, "%-22s %s" % (ex["raw"], ex["text"]))
+            self.check_faults(s)
         return self.results
 
 
 def parse_param(dictionary, cmd, tok, card):
-    v = parse_number(tok, "parameter for %s" % cmd.mnemonic)
-    if not -(1 << 31) <= v <= 0xFFFFFFFF:
-        raise Mac4Error("parameter %s for %s does not fit 32 bits" % (tok, cmd.mnemonic))
+    v = parse_number(tok, "parameter for %s" % cmd.mnemonic)      # any 32-bit word
     cards = [card] if card else cmd.cards
     for c in cards:
         r = cmd.range(c)
@@ -108,10 +149,10 @@ def parse_param(dictionary, cmd, tok, card):
 
 
 def parse_axis(tok):
-    a = parse_number(tok, "axis")
-    if not 0 <= a <= 255:
-        raise Mac4Error("axis %s out of 0..255 (the card counts 0-3)" % tok)
-    return a
+    try:
+        return parse_number(tok, "axis", 0, 255)
+    except Mac4Error as e:
+        raise Mac4Error("%s (the wire numbers of the axes are 0-3)" % e) from None
 
 
 def parse_send_args(dictionary, tokens, card=None):
@@ -126,7 +167,7 @@ def parse_send_args(dictionary, tokens, card=None):
         tok = tokens[i]
         cmd = dictionary.resolve(tok, card)
         param = 0
-        if i + 1 < len(tokens) and is_number(tokens[i + 1]):
+        if i + 1 < len(tokens) and looks_like_number(tokens[i + 1]):
             param = parse_param(dictionary, cmd, tokens[i + 1], card)
             i += 1
         elif cmd.takes_parameter:
@@ -139,27 +180,29 @@ def parse_send_args(dictionary, tokens, card=None):
 
 def read_batch_file(path):
     """The lines of a batch file ('-': standard input), which must be UTF-8
-    text (ASCII in practice)."""
+    text (ASCII in practice) of at most BATCH_MAX_BYTES."""
     name = "stdin" if path == "-" else path
     try:
         if path == "-":
-            data = sys.stdin.buffer.read()
+            data = sys.stdin.buffer.read(BATCH_MAX_BYTES + 1)
         else:
             with open(path, "rb") as f:
-                data = f.read()
+                data = f.read(BATCH_MAX_BYTES + 1)
     except IsADirectoryError:
         raise Mac4Error("%s: is a directory, not a batch file" % name) from None
     except OSError as e:
         raise Mac4Error("%s: %s" % (name, e.strerror or e)) from None
+    if len(data) > BATCH_MAX_BYTES:                # /dev/zero, a disk image: not a batch
+        raise Mac4Error("%s: more than %d bytes: not a batch file" % (name, BATCH_MAX_BYTES))
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as e:
         line = data.count(b"\n", 0, e.start) + 1
-        raise Mac4Error("%s:%d: not UTF-8 text (byte $%02X at offset %d)"
-                        % (name, line, data[e.start], e.start)) from None
+        raise BatchError("%s:%d: not UTF-8 text (byte $%02X at offset %d)"
+                         % (name, line, data[e.start], e.start)) from None
     if "\0" in text:
         line = text.count("\n", 0, text.index("\0")) + 1
-        raise Mac4Error("%s:%d: a NUL byte: not a text file" % (name, line))
+        raise BatchError("%s:%d: a NUL byte: not a text file" % (name, line))
     return text.splitlines(), name
 
 
@@ -176,14 +219,15 @@ def parse_batch(dictionary, lines, card=None, name="-"):
                 toks = toks[1:]
             if toks and toks[0].lower() in ("wait", "run", "sleep"):
                 if len(toks) != 2:
-                    raise Mac4Error("wait needs MS")
-                steps.append(Step(0, None, 0, wait_ms=float(toks[1])))
+                    raise Mac4Error("%s needs MS (0..%d)" % (toks[0].lower(), WAIT_MAX_MS))
+                ms = parse_number(toks[1], "wait time (ms)", 0, WAIT_MAX_MS)
+                steps.append(Step(0, None, 0, wait_ms=ms))
                 continue
             if not 2 <= len(toks) <= 3:
                 raise Mac4Error("expected AXIS CMD [PARAM]")
             steps += parse_send_args(dictionary, toks, card)
-        except (Mac4Error, ValueError) as e:
-            raise Mac4Error("%s:%d: %s" % (name, n, e)) from None
+        except Mac4Error as e:
+            raise BatchError("%s:%d: %s" % (name, n, e)) from None
     return steps
 
 
@@ -262,7 +306,7 @@ def cmd_decode(d, args):
     if what == "response":
         if len(args.values) != 2:
             raise Mac4Error("decode response CODE PARAM")
-        code = parse_number(args.values[0], "code")
+        code = parse_number(args.values[0], "code", 0, 0xFFFF)
         param = parse_number(args.values[1], "parameter")
         axis = parse_axis(args.axis)
         ex = d.explain(axis, code, param, card=args.card)
@@ -278,7 +322,7 @@ def cmd_decode(d, args):
                         % (what, ", ".join(d.status_words)))
     if len(args.values) != 1:
         raise Mac4Error("decode %s VALUE" % what)
-    st = d.decode_status(what, parse_number(args.values[0], "status word"))
+    st = d.decode_status(what, parse_number(args.values[0], "status word", 0, 0xFFFFFFFF))
     if args.json:
         print(json.dumps(st, indent=1))
     else:
@@ -316,8 +360,14 @@ def cmd_send(d, args, steps):
     client.t = t
     try:
         t.open()
+        client.check_faults()                     # a restart while it booted
         client.run(steps)
     except TransportError as e:
+        if client.restarted:                      # why, if the card can still tell
+            try:
+                client.check_faults()
+            except TransportError:
+                pass
         print("mac4host: %s" % e, file=sys.stderr)
         t.close()
         return EXIT_TRANSPORT
@@ -327,8 +377,28 @@ def cmd_send(d, args, steps):
     return EXIT_CARD_ERROR if client.card_errors else EXIT_OK
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse exits 2 on a bad option; 2 is mac4host's transport failure,
+    so option errors exit EXIT_USAGE like every other usage error."""
+
+    def error(self, message):
+        self.print_usage(sys.stderr)
+        self.exit(EXIT_USAGE, "%s: error: %s\n" % (self.prog, message))
+
+
+def number_option(what, lo, hi, fraction=False):
+    """An option's value through parse_number (argparse's type=)."""
+    def convert(tok):
+        try:
+            return parse_number(tok, "value", lo, hi, fraction)
+        except Mac4Error as e:
+            raise argparse.ArgumentTypeError(str(e)) from None
+    convert.__name__ = what             # argparse names it in some messages
+    return convert
+
+
 def build_parser():
-    common = argparse.ArgumentParser(add_help=False)
+    common = Parser(add_help=False)
     S = argparse.SUPPRESS
     common.add_argument("--dict", dest="dict", metavar="PATH", default=S,
                         help="command dictionary (default build/commands.json)")
@@ -342,26 +412,31 @@ def build_parser():
     common.add_argument("--sim-path", default=S, metavar="PATH", help="the emulator binary")
     common.add_argument("--sim-arg", action="append", default=S, metavar="ARG",
                         help="extra mac4sim option (repeatable), e.g. --sim-arg=--timestamps")
-    common.add_argument("--sim-max-ms", type=float, default=S, metavar="MS",
+    common.add_argument("--sim-max-ms", type=number_option("--sim-max-ms", 1, WAIT_MAX_MS, True),
+                        default=S, metavar="MS",
                         help="emulated time to wait for a response (default 2000)")
     common.add_argument("--serial", metavar="PORT", default=S,
                         help="talk over a serial line (4800 8N1) through pyserial: a device "
                              "(/dev/ttyS0, the pty of mac4sim --serial-pty) or a URL "
                              "(socket://127.0.0.1:PORT for mac4sim --serial-tcp, rfc2217://...)")
-    common.add_argument("--timeout", type=float, default=S, metavar="S",
+    common.add_argument("--timeout", type=number_option("--timeout", 0.001, 3600, True),
+                        default=S, metavar="S",
                         help="wall-clock seconds to wait for an answer (serial 2, sim 30)")
-    common.add_argument("--retries", type=int, default=S,
+    common.add_argument("--retries", type=number_option("--retries", 0, 100), default=S,
+                        metavar="N",
                         help="serial: send again this often after a NAK (default 2)")
     common.add_argument("-v", "--verbose", action="store_true", default=S,
                         help="also print each command as it is sent")
 
-    p = argparse.ArgumentParser(
+    p = Parser(
         prog="mac4host", parents=[common],
         description="Host client for the MACCON MAC4 axis controller: the command dictionary, "
                     "status decoding, and commands over the emulator or a serial line.",
-        epilog="Numbers: decimal (signed), 0x.. or $.. hex. Exit status: 0 ok, 1 usage or "
-               "unknown command, 2 no answer/transport failure, 3 the card answered an "
-               "error code (160-165). See docs/host-client.md.")
+        epilog="Numbers: decimal (a leading 0 is still decimal), 0x.. or $.. hex, '-' where "
+               "a value may be negative. Exit status: 0 ok, 1 usage error (a bad option or "
+               "number, an unknown command, a bad batch line), 2 no answer/transport failure, "
+               "3 the card answered an error code (160-165), 130 interrupted. "
+               "See docs/host-client.md.")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
 
@@ -439,11 +514,14 @@ def _main(args):
             lines, name = read_batch_file(args.file)
             steps = parse_batch(d, lines, args.card, name)
         return cmd_send(d, args, steps)
+    except BatchError as e:                       # FILE:LINE: message, as compilers and mac4sim
+        print(e, file=sys.stderr)
+        return EXIT_USAGE
     except Mac4Error as e:
         print("mac4host: %s" % e, file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:
-        return 130
+        return EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":

@@ -11,8 +11,9 @@ firmware/commands.def and firmware/status.def).  docs/host-client.md.
 """
 from .card import Card, CardError, Response, Status, Timeout, connect
 from .dictionary import (Command, Dictionary, Mac4Error, check_dictionary, is_number,
-                         load_dictionary, parse_number, s32)
+                         load_dictionary, looks_like_number, parse_number, s32)
 from . import board  # noqa: F401  (the memory map, generated from board/mac4.toml)
+from .faults import decode_fault_record, exception_name, read_fault_record
 from .paths import find_dictionary, find_sim
 from .telegram import (DLE, NAK, STX, ChecksumError, Garbage, Nak, Telegram, TelegramDecoder,
                        checksum, encode_telegram, telegram_data)
@@ -21,6 +22,6 @@ from .transport import SerialTransport, SimTransport, TransportError, open_trans
 __all__ = ["Card", "CardError", "ChecksumError", "Command", "Dictionary", "Garbage", "Mac4Error",
            "Nak", "Response", "SerialTransport", "SimTransport", "Status", "Telegram",
            "TelegramDecoder", "Timeout", "TransportError", "check_dictionary", "checksum",
-           "connect", "encode_telegram", "find_dictionary", "find_sim", "is_number",
-           "load_dictionary", "open_transport", "parse_number", "s32", "telegram_data",
+           "connect", "decode_fault_record", "encode_telegram", "exception_name", "find_dictionary", "find_sim", "is_number",
+           "load_dictionary", "looks_like_number", "open_transport", "parse_number", "read_fault_record", "s32", "telegram_data",
            "DLE", "NAK", "STX"]

@@ -8,6 +8,7 @@ axis 0 is the manual's axis 1).
 from dataclasses import dataclass, field
 
 from .dictionary import Mac4Error, load_dictionary, parse_number
+from .faults import read_fault_record
 from .transport import TransportError, open_transport
 
 
@@ -22,7 +23,10 @@ class Timeout(TimeoutError):
 @dataclass
 class Status:
     """A status word decoded: `bits` the names of the bits set, `mode` the
-    mode's name (user status), `value` the word."""
+    mode's name (user status), `value` the word.  A name the manual gives to
+    several bits of a word is NAME@BIT in `bits` (dr_disable@10,
+    dr_disable@22 of the system status); `"dr_disable" in status` is true
+    for either, `"dr_disable@22" in status` for that bit only."""
     word: str
     value: int
     bits: frozenset
@@ -30,7 +34,7 @@ class Status:
     fields: dict = field(default_factory=dict, repr=False)
 
     def __contains__(self, name):
-        return name in self.bits
+        return name in self.bits or any(b.split("@", 1)[0] == name for b in self.bits)
 
     def __str__(self):
         return "%s status 0x%08X%s: %s" % (self.word, self.value,
@@ -223,6 +227,16 @@ class Card:
             raise Mac4Error("no read command for the %s status in the dictionary" % word)
         return self.command(cmd.mnemonic, 0, axis).status
 
+    def fault_record(self):
+        """The card's fault record (mac4card.faults.decode_fault_record: vector,
+        exception, pc, sr, address, count, text), or None when the card has
+        recorded no fault since power-on.  It lives in the DPRAM: a transport
+        that does not reach it (a serial line) raises Mac4Error."""
+        if not getattr(self.t, "dpram", False):
+            raise Mac4Error("the fault record is in the card's DPRAM, which a %s transport "
+                            "does not reach" % getattr(self.t, "name", "this"))
+        return read_fault_record(self.t.peek32)
+
     # -- events --
     def wait_for(self, bit, axis=0, timeout=10.0, poll_ms=10):
         """Read the user and the overall status until `bit` (a user or overall
@@ -249,7 +263,7 @@ class Card:
                 if self.ack_errors:
                     self.acknowledge(axis, err)
                 raise err
-            if bit in user.bits or bit in overall.bits:
+            if bit in user or bit in overall:
                 return user
             if self.t.clock() - t0 >= timeout:
                 raise Timeout("axis %d: no %s within %g s | %s" % (axis, bit, timeout, user),

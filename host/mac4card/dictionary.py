@@ -4,6 +4,7 @@ Everything the package knows about commands, status bits, error codes and
 modes comes from there."""
 import json
 import os
+import re
 from dataclasses import dataclass, field
 
 from .paths import find_dictionary
@@ -13,24 +14,71 @@ class Mac4Error(Exception):
     """A problem the user has to fix (bad command, parameter, dictionary)."""
 
 
-def parse_number(tok, what="number"):
-    """Decimal (signed), 0x.. or $.. hexadecimal, 0b.. binary."""
-    s = str(tok).strip().replace("_", "")
-    neg = s.startswith("-")
-    body = s[1:] if neg or s.startswith("+") else s
-    try:
-        if body.startswith("$"):
-            v = int(body[1:], 16)
-        elif body[:2].lower() in ("0x", "0b", "0o"):
-            v = int(body, 0)
-        else:
-            v = int(body, 10)
-    except ValueError:
-        raise Mac4Error("bad %s '%s' (decimal, 0x.. or $.. hex)" % (what, tok)) from None
-    return -v if neg else v
+# The one reader of numbers (mac4host's command line and batch files, the
+# package's string parameters).  The same syntax as mac4sim's script reader,
+# stricter: no '+', no sign where the field cannot be negative.
+_INTEGER = re.compile(r"(-?)(?:0[xX]([0-9A-Fa-f]+)|\$([0-9A-Fa-f]+)|([0-9]+))")
+_FRACTION = re.compile(r"[0-9]+(?:\.[0-9]+)?|\.[0-9]+")
+S32_MIN, U32_MAX = -(1 << 31), 0xFFFFFFFF
+_SYMBOLS = {S32_MIN: "-2^31", (1 << 31) - 1: "2^31-1", U32_MAX: "2^32-1"}
+
+
+def _show(tok):
+    """A token for an error message: printable, at most 40 characters."""
+    t = tok if len(tok) <= 40 else tok[:37] + "..."
+    return "'%s'" % t.encode("unicode_escape").decode("ascii").replace("'", "\\'")
+
+
+def _span(lo, hi):
+    def f(v):
+        if isinstance(v, float):
+            return str(int(v)) if v.is_integer() else "%g" % v
+        return _SYMBOLS.get(v, str(v))
+    return "%s..%s" % (f(lo), f(hi))
+
+
+def parse_number(tok, what="number", lo=S32_MIN, hi=U32_MAX, fraction=False):
+    """A number from text, checked against its field's range lo..hi (default:
+    any 32-bit word, signed or unsigned).
+
+    Integers: decimal digits (a leading zero is still decimal: 0100 is one
+    hundred), or hexadecimal 0x.. / $..; a leading '-' only where lo < 0.
+    Nothing else: no '+', no 0b/0o, no '_', no blanks, no fraction, no
+    exponent, no other characters.  fraction=True (times): decimal digits
+    with an optional decimal fraction (2, 0.5, .5), no sign, no hex, no
+    exponent, no nan/inf; returns a float.  Anything else raises Mac4Error
+    naming `what`."""
+    s = tok if isinstance(tok, str) else str(tok)
+    if fraction:
+        if not _FRACTION.fullmatch(s):
+            raise Mac4Error("bad %s %s: expected a decimal number of %s (digits, "
+                            "optionally a decimal fraction)" % (what, _show(s), _span(lo, hi)))
+        v = float(s) if len(s) <= 40 else float("inf")
+    else:
+        m = _INTEGER.fullmatch(s)
+        if not m:
+            raise Mac4Error("bad %s %s: expected decimal digits or 0x../$.. hex" % (what, _show(s)))
+        neg, digits = m.group(1), m.group(2) or m.group(3) or m.group(4)
+        if neg and lo >= 0:
+            raise Mac4Error("bad %s %s: no sign here (%s)" % (what, _show(s), _span(lo, hi)))
+        digits = digits.lstrip("0") or "0"
+        if len(digits) > 20:                      # far beyond any field: no huge ints
+            raise Mac4Error("%s %s out of %s" % (what, _show(s), _span(lo, hi)))
+        v = int(digits, 10 if m.group(4) else 16)
+        v = -v if neg else v
+    if not lo <= v <= hi:
+        raise Mac4Error("%s %s out of %s" % (what, _show(s), _span(lo, hi)))
+    return v
+
+
+def looks_like_number(tok):
+    """Whether a token is meant as a number (mnemonics begin with a letter),
+    so that a malformed one is reported as a bad number."""
+    return str(tok)[:1] in tuple("0123456789-+$.")
 
 
 def is_number(tok):
+    """Whether parse_number takes tok as a 32-bit word."""
     try:
         parse_number(tok)
         return True
@@ -145,10 +193,8 @@ class Dictionary:
         Command of kind "unknown" named "#CODE".  A mnemonic the dictionary does
         not know, or one `card` does not have, raises Mac4Error."""
         tok = str(token).strip()
-        if is_number(tok):
-            code = parse_number(tok, "code")
-            if not 0 <= code <= 0xFFFF:
-                raise Mac4Error("code %s out of 0..65535" % tok)
+        if looks_like_number(tok):
+            code = parse_number(tok, "code", 0, 0xFFFF)
             c = self.by_code.get(code)
             if c is not None:
                 return c
@@ -172,17 +218,31 @@ class Dictionary:
         return None
 
     # -- decoding --
+    def bit_keys(self, word):
+        """(key, entry) of every entry of a status word.  The key is the
+        manual's name, or NAME@BIT where the manual gives one name to several
+        bits of the word (system status bits 10 and 22, both dr_disable,
+        7.1.2), so that each bit stays a key of its own."""
+        entries = [b for b in self.status[word] if "bit" in b]
+        seen = {}
+        for b in entries:
+            seen[b["name"]] = seen.get(b["name"], 0) + 1
+        return [("%s@%d" % (b["name"], b["bit"]) if seen[b["name"]] > 1 else b["name"], b)
+                for b in entries]
+
     def decode_status(self, word, value):
         """Decode a status word: {"word", "value", "hex", "fields", "bits",
-        "bit_descriptions", "undefined_bits"}.  A field of several bits (the
-        user status' mode, bits 0-7) is named from the dictionary's list of the
-        same name plus "s" ("mode" -> "modes")."""
+        "bit_descriptions", "bit_numbers", "undefined_bits"}.  "bits" lists the
+        keys of the bits set (bit_keys(): the name, NAME@BIT for a name the
+        manual gives to several bits), "bit_numbers" their bit numbers.  A
+        field of several bits (the user status' mode, bits 0-7) is named from
+        the dictionary's list of the same name plus "s" ("mode" -> "modes")."""
         if word not in self.status_words:
             raise Mac4Error("unknown status word '%s' (one of: %s)"
                             % (word, ", ".join(self.status_words)))
         value &= 0xFFFFFFFF
-        fields, bits, descs, covered = {}, [], {}, 0
-        for b in self.status[word]:
+        fields, bits, descs, numbers, covered = {}, [], {}, {}, 0
+        for key, b in self.bit_keys(word):
             width = b.get("width", 1)
             mask = ((1 << width) - 1) << b["bit"]
             covered |= mask
@@ -195,11 +255,13 @@ class Dictionary:
                     f["name"] = names[0] if names else None
                 fields[b["name"]] = f
             elif v:
-                bits.append(b["name"])
-                descs[b["name"]] = b.get("description", "")
+                bits.append(key)
+                descs[key] = b.get("description", "")
+                numbers[key] = b["bit"]
         undefined = [i for i in range(32) if value >> i & 1 and not covered >> i & 1]
         return {"word": word, "value": value, "hex": "0x%08X" % value, "fields": fields,
-                "bits": bits, "bit_descriptions": descs, "undefined_bits": undefined}
+                "bits": bits, "bit_descriptions": descs, "bit_numbers": numbers,
+                "undefined_bits": undefined}
 
     @staticmethod
     def status_summary(st):

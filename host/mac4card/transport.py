@@ -4,7 +4,9 @@ emulator's pty), or any URL pyserial opens (socket://HOST:PORT for the
 emulator's --serial-tcp or a serial-to-TCP server, rfc2217://HOST:PORT).
 
 Both have transact(axis, code, param, is_ours) -> (axis, code, param),
-wait(ms) and clock() (seconds of the card's time)."""
+wait(ms) and clock() (seconds of the card's time).  `dpram` says whether
+the transport reaches the card's DPRAM (peek32): the emulator's host script
+does, a serial line does not."""
 import os
 import select
 import subprocess
@@ -37,6 +39,7 @@ class SimTransport(_Transport):
     `max_ms` of emulated time have passed.  Other lines go to on_event."""
 
     name = "sim"
+    dpram = True
 
     def __init__(self, card="inc", sim_path=None, sim_args=(), on_event=None,
                  step_ms=5, max_ms=2000, timeout=30.0):
@@ -137,9 +140,10 @@ class SimTransport(_Transport):
             return
         self.on_event("sim" if src == "out" else "sim-stderr", line)
 
-    def _script(self, *cmds):
-        """Write script lines plus a marker; return stdout lines up to it (stderr
-        lines and everything go to on_event except resp lines, returned)."""
+    def _script(self, *cmds, keep=("resp ", "timeout ")):
+        """Write script lines plus a marker; return the stdout lines up to it
+        that begin with one of `keep` (resp and timeout lines); everything
+        else, stderr too, goes to on_event."""
         self.marker += 1
         mark = "mac4host-sync %d" % self.marker
         self._write("".join(c + "\n" for c in cmds) + "echo %s\n" % mark)
@@ -150,7 +154,7 @@ class SimTransport(_Transport):
                 if src == "out" and line == mark:
                     return seen
                 core = line.split(" ", 1)[-1] if line.startswith("@") else line  # --timestamps
-                if src == "out" and (core.startswith("resp ") or core.startswith("timeout ")):
+                if src == "out" and core.startswith(keep):
                     seen.append(core)
                 else:
                     self._event(src, line)
@@ -195,6 +199,22 @@ class SimTransport(_Transport):
         """Seconds of the card's time: emulated time."""
         return self.emulated_ms / 1000.0
 
+    def peek32(self, offsets):
+        """The DPRAM's 32-bit words at these offsets, read as the VME host
+        reads them (the script's peek32; no emulated time passes)."""
+        got = {}
+        for line in self._script(*["peek32 0x%04X" % o for o in offsets],
+                                 keep=("peek32 ", "resp ")):
+            p = line.split()
+            if p[0] == "peek32" and len(p) == 3:
+                got[int(p[1], 16)] = int(p[2], 16)
+            else:
+                self.on_event("sim", "unsolicited " + line)
+        missing = [o for o in offsets if o not in got]
+        if missing:
+            raise TransportError("mac4sim did not answer peek32 0x%04X" % missing[0])
+        return [got[o] for o in offsets]
+
     def wait(self, ms):
         self.emulated_ms += ms
         for line in self._script("run %g" % ms):
@@ -206,6 +226,7 @@ class SerialTransport(_Transport):
     `device` is anything serial.serial_for_url() opens."""
 
     name = "serial"
+    dpram = False               # the front-panel line carries telegrams only (manual 3.3)
 
     def __init__(self, device, on_event=None, timeout=2.0, retries=2, double_dle_checksum=False):
         self.device = device

@@ -3,6 +3,7 @@ status decoding, the dictionary listing, and commands end to end through the
 emulator (its host script, and its serial line on a pseudo-terminal)."""
 import json
 import os
+import re
 import select
 import subprocess
 import sys
@@ -15,6 +16,7 @@ from conftest import ROOT, SIM
 
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import mac4host  # noqa: E402
+from mac4card import board as B, faults  # noqa: E402  (the path: mac4host's)
 
 HOST = [sys.executable, os.path.join(ROOT, "tools", "mac4host.py")]
 DICT = mac4host.load_dictionary()
@@ -350,18 +352,33 @@ def test_bad_dictionary_names_the_field(tmp_path):
     assert "is a directory" in line
 
 
+def batch_error(r, where):
+    """A batch file's error: `FILE:LINE: message` alone on stderr, exit status 1."""
+    assert r.returncode == mac4host.EXIT_USAGE, (r.returncode, r.stderr)
+    assert "Traceback" not in r.stderr, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(where + ": "), r.stderr
+    return lines[0]
+
+
 def test_batch_not_utf8_is_one_line(tmp_path):
     f = tmp_path / "latin1.txt"
     f.write_bytes(b"0 VER\n0 WAP 16  # Stra\xdfe\n")
-    line = one_line_error(host("batch", str(f)))
-    assert "latin1.txt:2: not UTF-8 text (byte $DF" in line
+    line = batch_error(host("batch", str(f)), "%s:2" % f)
+    assert "not UTF-8 text (byte $DF" in line
     r = subprocess.run(HOST + ["batch", "-"], input=b"\xff\xfe0 VER\n", capture_output=True,
                        timeout=60)
     r.stderr, r.stdout = r.stderr.decode(), r.stdout.decode()
-    assert "stdin:1: not UTF-8 text (byte $FF" in one_line_error(r)
+    assert "not UTF-8 text (byte $FF" in batch_error(r, "stdin:1")
     f.write_bytes(b"0 VER\n\x000 RCP\n")
-    assert "latin1.txt:2: a NUL byte" in one_line_error(host("batch", str(f)))
+    assert "a NUL byte" in batch_error(host("batch", str(f)), "%s:2" % f)
     assert "is a directory" in one_line_error(host("batch", str(tmp_path)))
+    line = one_line_error(host("batch", str(tmp_path / "nosuch.txt")))
+    assert line == "mac4host: %s: No such file or directory" % (tmp_path / "nosuch.txt"), line
+    line = one_line_error(host("batch", "/dev/zero", timeout=60))    # read no further
+    assert line == "mac4host: /dev/zero: more than 1048576 bytes: not a batch file", line
+    f.write_bytes(b"0 VER\n" * (1 << 20))
+    assert "not a batch file" in one_line_error(host("batch", "-", stdin=f.read_text()))
 
 
 def test_serial_port_that_does_not_open_is_one_line(tmp_path):
@@ -370,3 +387,327 @@ def test_serial_port_that_does_not_open_is_one_line(tmp_path):
         assert r.returncode == mac4host.EXIT_TRANSPORT and "Traceback" not in r.stderr, r.stderr
         assert r.stderr.startswith("mac4host: cannot open %s: " % port) and \
             len(r.stderr.strip().splitlines()) == 1, r.stderr
+
+
+# ---- numbers: one strict reader for the command line and batch files ----------------
+
+@pytest.mark.parametrize("tok,value", [
+    ("0", 0), ("0100", 100), ("007", 7), ("-5", -5), ("0x10", 16), ("0X1f", 31), ("$ff", 255),
+    ("-0x10", -16), ("-$10", -16), ("4294967295", 0xFFFFFFFF), ("-2147483648", -(1 << 31)),
+    ("0xFFFFFFFF", 0xFFFFFFFF), ("0" * 30 + "1", 1)])
+def test_number_accepted(tok, value):
+    assert mac4host.parse_number(tok, "x") == value
+
+
+BAD_NUMBERS = ["", "+5", "+-5", "--5", "-", "0b101", "0o17", "1_000", "0x1_0", "1.5", "1e3",
+               "nan", "inf", "5abc", " 5", "5 ", "0x", "$", "0x-5", "\uff11\uff12",
+               "4294967296", "-2147483649", "0x100000000", "9" * 5000]
+
+
+@pytest.mark.parametrize("tok", BAD_NUMBERS)
+def test_number_rejected(tok):
+    with pytest.raises(mac4host.Mac4Error) as e:
+        mac4host.parse_number(tok, "widget")
+    assert "widget" in str(e.value) and "\n" not in str(e.value) and len(str(e.value)) < 160
+
+
+def test_number_sign_only_where_negative_and_range_of_the_field():
+    assert mac4host.parse_number("255", "axis", 0, 255) == 255
+    for tok in ("-1", "-0", "256", "0x100"):
+        with pytest.raises(mac4host.Mac4Error, match="axis"):
+            mac4host.parse_number(tok, "axis", 0, 255)
+    assert mac4host.parse_number("-0", "p") == 0                    # signed field
+
+
+@pytest.mark.parametrize("tok,ok", [("0.5", 0.5), (".5", 0.5), ("2", 2.0), ("3600", 3600.0),
+                                    ("1e3", None), ("nan", None), ("inf", None), ("-1", None),
+                                    ("+1", None), ("0x10", None), ("5.", None), ("1_0", None),
+                                    ("3600.5", None), ("", None)])
+def test_fraction_for_times(tok, ok):
+    if ok is None:
+        with pytest.raises(mac4host.Mac4Error):
+            mac4host.parse_number(tok, "t", 0.001, 3600, fraction=True)
+    else:
+        assert mac4host.parse_number(tok, "t", 0.001, 3600, fraction=True) == ok
+
+
+@pytest.fixture
+def fake_sim(tmp_path):
+    """build/mac4sim behind a wrapper that leaves a file when it starts."""
+    started = tmp_path / "started"
+    fake = tmp_path / "fakesim"
+    fake.write_text("#!/bin/sh\ntouch %s\nexec %s \"$@\"\n" % (started, SIM))
+    fake.chmod(0o755)
+    return str(fake), started
+
+
+@pytest.mark.parametrize("args,what", [
+    (["send", "+0", "VER"], "axis"), (["send", "0x100", "VER"], "axis"),
+    (["send", "-1", "VER"], "axis"), (["send", "0", "WAP", "1_000"], "parameter for WAP"),
+    (["send", "0", "WAP", "16.0"], "parameter for WAP"), (["send", "0", "WAP", "0b11"], "WAP"),
+    (["send", "0", "WAP", "4294967296"], "WAP"), (["send", "0", "RCP", "0", "1.5"], "code"),
+    (["send", "0", "VER", "0", "70000"], "code"), (["send", "0", "VER", "0", "-7"], "code"),
+    (["send", "0", "VER", "0", "0x"], "code")])
+def test_bad_number_on_the_command_line_sends_nothing(fake_sim, args, what):
+    fake, started = fake_sim
+    line = one_line_error(host("--sim-path", fake, *args))
+    assert what in line, line
+    assert not started.exists()
+
+
+def test_numbers_in_decode():
+    r = host("decode", "user", "0100")                        # decimal, not octal
+    assert r.returncode == 0 and "0x00000064" in r.stdout, r.stdout
+    assert host("decode", "user", "$64").stdout == r.stdout
+    for args in (["decode", "user", "-1"], ["decode", "user", "0b1"], ["decode", "user", "1_0"],
+                 ["decode", "user", "0x100000000"], ["decode", "response", "1.6e2", "0"],
+                 ["decode", "response", "-161", "0"], ["decode", "response", "161", "nan"],
+                 ["decode", "response", "7", "0", "--axis", "-1"]):
+        one_line_error(host(*args))
+    r = host("--json", "decode", "response", "116", "-5")      # a signed parameter
+    assert json.loads(r.stdout)["value"] == -5
+
+
+def test_batch_wait_takes_0_to_3600000_ms(tmp_path):
+    steps = mac4host.parse_batch(DICT, ["wait 0", "run 3600000", "sleep 0x10", "wait 0100"])
+    assert [s.wait_ms for s in steps] == [0, 3600000, 16, 100]
+    for bad in ("1.5", "-1", "3600001", "nan", "inf", "1e3", "+5", "10ms", "1_000"):
+        with pytest.raises(mac4host.BatchError) as e:
+            mac4host.parse_batch(DICT, ["0 VER", "wait %s" % bad], name="b.txt")
+        assert str(e.value).startswith("b.txt:2: ") and "wait" in str(e.value), str(e.value)
+    with pytest.raises(mac4host.BatchError, match=r"^b.txt:1: wait needs MS"):
+        mac4host.parse_batch(DICT, ["wait"], name="b.txt")
+
+
+@pytest.mark.parametrize("line,what", [
+    ("wait 1.5", "wait"), ("wait 3600001", "wait"), ("wait", "wait needs MS"),
+    ("0 WAP 1e3", "parameter for WAP"), ("0 WAP +16", "parameter for WAP"),
+    ("0x 0 VER", "axis"), ("0 NOSUCH", "unknown mnemonic"), ("0 VER extra words", "expected"),
+    ("1_0 VER", "axis")])
+def test_batch_errors_are_file_line_message_and_nothing_is_sent(tmp_path, fake_sim, line, what):
+    fake, started = fake_sim
+    f = tmp_path / "b.txt"
+    f.write_text("# first line\n0 VER\n%s\n0 RCP\n" % line)
+    err = batch_error(host("--sim-path", fake, "batch", str(f)), "%s:3" % f)
+    assert what in err, err
+    assert not started.exists()
+    err = batch_error(host("--sim-path", fake, "batch", "-", stdin="%s\n" % line), "stdin:1")
+    assert what in err and not started.exists(), err
+
+
+# ---- option errors: exit status 1 like every usage error, not argparse's 2 ----------
+
+@pytest.mark.parametrize("args", [
+    ["--card", "bogus", "dict"], ["--sim", "xyz", "send", "0", "VER"], ["--frobnicate", "dict"],
+    ["send"], [], ["bogus-command"], ["--timeout", "nan", "send", "0", "VER"],
+    ["--timeout", "1e3", "send", "0", "VER"], ["--timeout", "0", "send", "0", "VER"],
+    ["--retries", "1.5", "send", "0", "VER"], ["--retries", "-1", "send", "0", "VER"],
+    ["--retries", "0b1", "send", "0", "VER"], ["--sim-max-ms", "inf", "send", "0", "VER"],
+    ["send", "0", "VER", "--sim-max-ms", "-5"], ["decode"]])
+def test_option_errors_exit_1(fake_sim, args):
+    fake, started = fake_sim
+    r = host("--sim-path", fake, *args)
+    assert r.returncode == mac4host.EXIT_USAGE != mac4host.EXIT_TRANSPORT, (r.returncode, r.stderr)
+    assert "Traceback" not in r.stderr and "error:" in r.stderr and "usage:" in r.stderr, r.stderr
+    assert r.stdout == "" and not started.exists()
+
+
+def test_help_exits_0():
+    r = host("--help")
+    assert r.returncode == 0 and "Exit status" in r.stdout and "130" in r.stdout
+
+
+def test_negative_hex_parameter_after_double_dash():
+    r = host("--json", "send", "--", "0", "WAP", "-0x10", "RAP")
+    rs = responses(r.stdout)
+    assert r.returncode == 0 and [x["code"] for x in rs] == [70, 71], r.stdout + r.stderr
+    assert rs[0]["sent"]["param"] == 0xFFFFFFF0 and rs[1]["value"] == -16
+
+
+# ---- a name the manual gives two bits: system status 10 and 22, both dr_disable -----
+
+def test_dr_disable_bits_10_and_22_stay_apart():
+    named = [b["bit"] for b in DICT.status["system"] if b.get("name") == "dr_disable"]
+    assert named == [10, 22]                          # the manual's names, kept (7.1.2)
+    both = DICT.decode_status("system", 1 << 10 | 1 << 22 | 1)
+    assert both["bits"] == ["m_rdy", "dr_disable@10", "dr_disable@22"]
+    assert both["bit_numbers"] == {"m_rdy": 0, "dr_disable@10": 10, "dr_disable@22": 22}
+    d10, d22 = both["bit_descriptions"]["dr_disable@10"], both["bit_descriptions"]["dr_disable@22"]
+    assert "interlocking" in d10 and d22 == "MAC4-STP: internal control bit"
+    for bit in (10, 22):
+        st = DICT.decode_status("system", 1 << bit)
+        assert st["bits"] == ["dr_disable@%d" % bit] and not st["undefined_bits"]
+    # the package's Status: each bit by its key, either by the manual's name
+    from mac4card.card import _status
+    st = _status(DICT.decode_status("system", 1 << 22))
+    assert "dr_disable@22" in st and "dr_disable" in st and "dr_disable@10" not in st
+    assert st.bits == {"dr_disable@22"} and len(_status(both).bits) == 3
+    assert "m_rdy" not in st and "dr_disable" not in _status(DICT.decode_status("system", 1))
+
+
+def test_dr_disable_decoded_apart_on_the_command_line():
+    r = host("decode", "system", "0x400400")
+    assert r.returncode == 0, r.stderr
+    assert "system status dr_disable@10 dr_disable@22" in r.stdout
+    lines = [l.split(None, 1) for l in r.stdout.splitlines()[1:]]
+    assert [l[0] for l in lines] == ["dr_disable@10", "dr_disable@22"] and lines[0][1] != lines[1][1]
+    j = json.loads(host("--json", "decode", "system", "0x400000").stdout)
+    assert j["bits"] == ["dr_disable@22"] and j["bit_numbers"] == {"dr_disable@22": 22}
+
+
+# ---- the fault record (DPRAM $4010-$401C, count $4068) -------------------------------
+
+TIMER_VECTOR = 4 * (24 + B.IRQ_LEVEL_TIMER)
+BAD = 0x100001                  # odd: the timer's vector fetch ends in an address error
+RECORD_RE = (r"^fault record: exception 3 \(address error\) pc=\$100001 sr=\$26[0-9A-F]{2} "
+             r"address=\$100001; (\d+) fault\(s\) since power-on$")
+
+
+@pytest.fixture
+def faulting_sim(tmp_path):
+    """build/mac4sim that takes one stray host write into the live vector
+    table once booted, before mac4host's script: a fault, then the
+    watchdog's restart (J11 in), as in tests/system/test_fault_restart.py."""
+    w = tmp_path / "faultsim"
+    w.write_text("#!/bin/sh\n{ printf 'wait-display 5\\npoke32 0x%04X 0x%X\\nrun 400\\n'; cat; } "
+                 "| exec %s \"$@\"\n" % (TIMER_VECTOR, BAD, SIM))
+    w.chmod(0o755)
+    return ["--sim-path", str(w), "--sim-arg=--allow-faults"]
+
+
+def fault_lines(stdout):
+    return [l for l in stdout.splitlines() if l.startswith("fault record")]
+
+
+def test_exception_names_from_the_vector_number():
+    assert [faults.exception_name(v) for v in (2, 3, 4, 5, 8, 10, 11)] == [
+        "bus error", "address error", "illegal instruction", "zero divide",
+        "privilege violation", "line 1010 emulator", "line 1111 emulator"]
+    assert faults.exception_name(15) == "uninitialized interrupt vector"
+    assert faults.exception_name(24 + 6) == "level 6 interrupt autovector"
+    assert faults.exception_name(32 + 15) == "TRAP #15 instruction"
+    assert faults.exception_name(12) == "reserved vector"
+    assert faults.exception_name(200) == "user interrupt vector"
+    assert faults.exception_name(256) == "not a 68000 vector number"
+
+
+def test_fault_record_layout_from_the_board():
+    assert [off for _, off in faults.RECORD] == [B.DPC_FAULT_VECTOR, B.DPC_FAULT_PC,
+                                                 B.DPC_FAULT_SR, B.DPC_FAULT_ADDR,
+                                                 B.DPC_FAULT_COUNT]
+    zero = dict.fromkeys(("vector", "pc", "sr", "address", "count"), 0)
+    assert faults.decode_fault_record(zero) is None                 # power-on: none
+    rec = faults.decode_fault_record(dict(zero, vector=4, pc=0x10ABCD, sr=0x2700, count=2,
+                                          address=0x1234))
+    assert rec["address"] is None and rec["exception"] == "illegal instruction"
+    assert rec["text"] == ("exception 4 (illegal instruction) pc=$10ABCD sr=$2700; "
+                           "2 fault(s) since power-on")
+    got = []
+    rec = faults.read_fault_record(lambda offs: got.extend(offs) or [2, 0x100F00, 0x2604,
+                                                                     0xF01000, 1])
+    assert got == [off for _, off in faults.RECORD]
+    assert rec["text"] == ("exception 2 (bus error) pc=$100F00 sr=$2604 address=$F01000; "
+                           "1 fault(s) since power-on")
+
+
+def test_no_fault_record_after_power_on():
+    r = host("--json", "send", "0", "RBS", "RSS", "RAS")
+    assert r.returncode == 0, r.stderr
+    objs = [json.loads(l) for l in r.stdout.splitlines()]
+    assert [o["code"] for o in objs if o["type"] == "response"] == [125, 126, 124]
+    assert not [o for o in objs if o["type"] == "fault_record"], r.stdout
+
+
+def test_fault_record_after_restart_and_status_reads(faulting_sim):
+    r = host(*faulting_sim, "send", "0", "VER", "RBS", "RCP", "RSS", "RAS")
+    assert r.returncode == 0, r.stderr
+    lines = r.stdout.splitlines()
+    recs = [i for i, l in enumerate(lines) if l.startswith("fault record")]
+    assert all(re.match(RECORD_RE, lines[i]) and re.match(RECORD_RE, lines[i]).group(1) == "1"
+               for i in recs), lines
+    # once for the restart (before VER's answer), once after each status read
+    after = [lines[i - 1].split()[1] if not lines[i - 1].startswith("sim:") else "restart"
+             for i in recs]
+    assert after == ["restart", "125", "126", "124"], lines
+    assert lines[recs[0] - 1] == "sim: display 5" and "sim: reset watchdog" in lines[:recs[0]]
+    j = host("--json", *faulting_sim, "send", "0", "RBS")
+    objs = [json.loads(l) for l in j.stdout.splitlines()]
+    fr = [o for o in objs if o["type"] == "fault_record"]
+    assert [o["trigger"] for o in fr] == ["reset watchdog", "RBS"], j.stdout
+    o = fr[1]
+    assert (o["vector"], o["exception"], o["pc"], o["address"], o["count"]) == \
+        (3, "address error", BAD, BAD, 1)
+    assert o["sr"] & 0x2700 == 0x2600                   # in the level-6 interrupt
+    assert o["text"] in lines[recs[1]]
+
+
+def test_fault_record_after_a_restart_in_a_batch(faulting_sim):
+    """MR restarts the card through the watchdog too: the record of the earlier
+    fault is still there, with the same count."""
+    r = host("--json", *faulting_sim, "batch", "-", stdin="0 VER\n0 MR\nwait 1500\n0 RCP\n")
+    assert r.returncode == 0, r.stderr
+    objs = [json.loads(l) for l in r.stdout.splitlines()]
+    seq = [o["type"] if o["type"] != "response" else o["code"] for o in objs
+           if o["type"] in ("fault_record", "response")]
+    assert seq == ["fault_record", 7, 6, "fault_record", 116], seq
+    assert [o["count"] for o in objs if o["type"] == "fault_record"] == [1, 1]
+
+
+def test_fault_record_when_the_card_stays_at_f(faulting_sim):
+    """J11 out: no restart, the card stops at "F."; the client reports why it
+    does not answer."""
+    r = host(*faulting_sim, "--sim-arg=--j11", "--sim-arg=out", "send", "0", "VER")
+    assert r.returncode == mac4host.EXIT_TRANSPORT and "did not boot" in r.stderr, r.stderr
+    recs = fault_lines(r.stdout)
+    assert len(recs) == 1 and re.match(RECORD_RE, recs[0]), r.stdout
+    assert "Traceback" not in r.stderr
+
+
+def test_card_fault_record_in_the_package(faulting_sim):
+    from mac4card import Card, SimTransport
+    t = SimTransport(card="inc", sim_path=faulting_sim[1], sim_args=["--allow-faults"])
+    with Card(t, DICT, card="inc").open() as card:
+        rec = card.fault_record()
+    assert (rec["vector"], rec["pc"], rec["count"]) == (3, BAD, 1)
+    with Card(SimTransport(card="inc"), DICT, card="inc").open() as card:
+        assert card.fault_record() is None
+
+
+def fake_serial_card(master, answers, seen):
+    """A card on a pseudo-terminal: answers each telegram with the user status
+    (RBS, ... are answered too; a serial line carries nothing else)."""
+    dec = mac4host.TelegramDecoder()
+    deadline = time.monotonic() + 20
+    while len(seen) < answers and time.monotonic() < deadline:
+        r, _, _ = select.select([master], [], [], 0.2)
+        if r:
+            for ev in dec.feed(os.read(master, 64)):
+                if isinstance(ev, mac4host.Telegram):
+                    seen.append(ev)
+                    os.write(master, mac4host.encode_telegram(ev.axis, ev.code, 0x02000101))
+
+
+def test_no_fault_record_over_a_serial_line():
+    """The DPRAM is not reachable over the front-panel line: no record, and
+    no claim that there is none; the package says so."""
+    master, slave = os.openpty()
+    seen = []
+    t = threading.Thread(target=fake_serial_card, args=(master, 3, seen), daemon=True)
+    t.start()
+    try:
+        r = host("--json", "--serial", os.ttyname(slave), "send", "0", "RBS", "RSS", timeout=30)
+        from mac4card import Card, Mac4Error, SerialTransport
+        card = Card(SerialTransport(os.ttyname(slave)), DICT, card="inc")
+        card.open()
+        card.command("RBS")
+        with pytest.raises(Mac4Error, match="DPRAM"):
+            card.fault_record()
+        card.close()
+    finally:
+        t.join(5)
+        os.close(master)
+        os.close(slave)
+    assert r.returncode == 0, r.stderr
+    objs = [json.loads(l) for l in r.stdout.splitlines()]
+    assert [o["code"] for o in objs if o["type"] == "response"] == [125, 126]
+    assert not [o for o in objs if o["type"] == "fault_record"] and "fault" not in r.stdout
