@@ -143,9 +143,16 @@ static void brake_now(axis_t *x, int64_t dec_sp)
 }
 
 /* The tick stands after brake_now(): the profile continues from there, at
- * rest, with the rows (STP: the segment) holding the setpoint. */
+ * rest, with the rows (STP: the segment) holding the setpoint.  A stop that
+ * waits for the mechanics at rest gets its time bound here, from the ramp's
+ * ticks (stop_watch): whichever of the supervision and the profile generator
+ * sees the ramp's end first. */
 void brake_done(axis_t *x)
 {
+    if (x->stop_settle) {
+        uint32_t lim = 2u * x->stop_ticks + STOP_SETTLE_TICKS;
+        x->stop_limit = (uint16_t)(lim > UINT16_MAX ? UINT16_MAX : lim);
+    }
     x->prof.pos = brake_pos(x);
     x->prof.vel = 0;
     if (MAC4_CARD != MAC4_CARD_STP) {

@@ -96,13 +96,9 @@ void motion_supervise(unsigned n)
     if (x->mode == M_DISABLE || x->mode == M_TEST)
         return;
     if (x->braking && x->br_v == 0) {            /* the tick's ramp has ended: act now */
-        brake_done(x);
-        if (x->stop_settle) {                    /* the time bound from the ramp's ticks */
-            uint32_t lim = 2u * x->stop_ticks + STOP_SETTLE_TICKS;
-            x->stop_limit = (uint16_t)(lim > UINT16_MAX ? UINT16_MAX : lim);
-        } else if (x->stop_then) {
+        brake_done(x);                           /* (a stop waiting for rest: its time bound) */
+        if (!x->stop_settle && x->stop_then)
             stop_done(n);
-        }
         if (x->mode == M_DISABLE)
             return;
     }
