@@ -97,7 +97,10 @@ void card_profile_tick(void)
 {
     unsigned prev = hal_irq_save();
     uint8_t due = card_profile_due;
-    if (due) {
+    /* a tick since the last supervision is supervised first (the next pass
+     * does it): the profile generator never acts on a tick's result before
+     * the reactions to it have */
+    if (due && !card_supervise_due()) {
         /* axes in turn: due counts down 4, 3, 2, 1 */
         card_profile_due = (uint8_t)(due - 1u);
         motion_profile_tick(MAC4_NAXES - due);

@@ -50,7 +50,7 @@ typedef struct {
     uint8_t done;       /* the move of the current mode is complete */
     uint8_t stop_then;  /* protective stop in progress: STOP_* */
     /* INC/SSI: a stop that ends only with the mechanics at rest under
-     * closed-loop control (motion.c, stop_watch), with its runaway guards */
+     * closed-loop control (motion_supervise.c, stop_watch), with its runaway guards */
     uint8_t stop_settle;    /* wait for the mechanics at rest before STOP_DISABLE/DEINIT */
     uint8_t stop_rest;      /* supervised ticks in a row with |RAV| <= STOP_REST_VEL */
     uint16_t stop_ticks;    /* supervised ticks since the stop began */
@@ -108,7 +108,7 @@ typedef struct {
 #define STOP_DISABLE 2  /* emergency ramp <ed>, at rest, then disable */
 #define STOP_DEINIT 3   /* DEINIT: stop with <ed>, at rest, disable, clear init (4.9) */
 
-/* The end of a stop that disables (INC/SSI, motion.c stop_watch): the
+/* The end of a stop that disables (INC/SSI, motion_supervise.c stop_watch): the
  * mechanics at rest, |RAV| <= STOP_REST_VEL for STOP_REST_TICKS ticks in a
  * row, at most 2 x the setpoint ramp's ticks + STOP_SETTLE_TICKS after the
  * stop began; /EN opens at once if |RFE| exceeds its value at the start of

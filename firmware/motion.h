@@ -1,4 +1,5 @@
-/* motion.h - modes, profile generator and protective reactions (motion.c). */
+/* motion.h - modes, profile generator and protective reactions (motion.c and
+ * its stages, motion_priv.h). */
 #ifndef MOTION_H
 #define MOTION_H
 #include <stdint.h>

@@ -26,7 +26,7 @@ static inline __attribute__((always_inline)) void stp_tick_measure(unsigned n)
         measure_ext(x, &meas_cfg[n], n);          /* <et> 3/4 (measure.h) */
 }
 
-/* At each SP boundary: take the segment the main loop prepared (motion.c,
+/* At each SP boundary: take the segment the main loop prepared (motion_profile.c,
  * next_segment), split into 32-bit parts, which the tick interpolates in
  * Q16 for the step rate, or hold at the end of the last one; 1 if late.
  * No 64-bit arithmetic here. */

@@ -80,9 +80,9 @@ MUTATIONS = [
      "        if (axes[n].ustat & UB(GRAY))\n            v = gray_to_binary(v) ^ 1u;", ("ssi",), None),
     ("measure-eb-mask", "firmware/measure.c", "(((uint32_t)1 << eb) - 1u)", "(((uint32_t)1 << eb) - 2u)", ALL, None),
     # protective reactions (4.8, 6.3)
-    ("protect-ferr-compare", "firmware/motion.c", "if (x->ferr > mf || x->ferr < -mf) {",
+    ("protect-ferr-compare", "firmware/motion_supervise.c", "if (x->ferr > mf || x->ferr < -mf) {",
      "if (x->ferr > mf + 1 || x->ferr < -mf) {", ALL, None),
-    ("protect-soft-limit", "firmware/motion.c", "} else if (x->linear && (x->pos > x->lp || x->pos < x->ln)) {",
+    ("protect-soft-limit", "firmware/motion_supervise.c", "} else if (x->linear && (x->pos > x->lp || x->pos < x->ln)) {",
      "} else if (x->linear && (x->pos > x->lp + 1 || x->pos < x->ln)) {", ALL, None),
     ("protect-hard-limit", "firmware/supervise.c", "    0, UB(HWL_P), UB(HWL_N), UB(HWL_P) | UB(HWL_N),",
      "    0, UB(HWL_N), UB(HWL_P), UB(HWL_P) | UB(HWL_N),", ALL, None),

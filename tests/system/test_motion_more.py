@@ -214,7 +214,7 @@ def test_inc_7_2_home_left_edge_then_next_index():
     assert plant_pos(r)[-1] - rcp in (23999, 24000, 24001) and abs(rcp) <= 10
 
 
-H1 = ("H1: home raises interrupt 4 in every SP after jus_end, not once (motion.c, M_HOME phase 3 calls "
+H1 = ("H1: home raises interrupt 4 in every SP after jus_end, not once (motion_justify.c, M_HOME phase 3 calls "
       "justified() whenever idx_seen is set, without the !x->done guard search index has)")
 
 

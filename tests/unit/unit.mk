@@ -1,5 +1,5 @@
 # Native unit tests (cmocka), built with ASan and UBSan.  Included by Makefile.
-UNIT_TESTS := test_crc16 test_queue test_boot test_runtime test_serial test_plant test_servo test_profile test_stepper test_ext
+UNIT_TESTS := test_crc16 test_queue test_boot test_runtime test_serial test_plant test_servo test_profile test_stepper test_ext test_motion
 SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 NATIVE_CFLAGS := -std=gnu11 -g -O1 -Wall -Wextra -Werror -Ihal -Ifirmware -Iharness -Ihal/target \
                  -DHAL_NATIVE -DMAC4_CARD=0 $(SAN)

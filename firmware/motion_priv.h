@@ -1,0 +1,62 @@
+/*
+ * motion_priv.h - what the motion files share among themselves, not for
+ * use outside them (motion.h is the interface): the profile generator's
+ * velocity cache, the tick's brake hand-back, the ramp of every mode.
+ *   motion.c            a mode set up at E, the velocity cache, the brakes,
+ *                       the protective stops begun
+ *   motion_profile.c    the profile generator, once per SP: the next segment
+ *   motion_justify.c    its justification modes (5.7-5.10)
+ *   motion_supervise.c  after every tick: index latch, protective reactions,
+ *                       the end of a stop
+ */
+#ifndef MOTION_PRIV_H
+#define MOTION_PRIV_H
+#include "card.h"
+#include "params.h"
+#include "profile.h"
+#include "stepper.h"
+
+#define Q16(x) ((int64_t)(x) * 65536)
+
+int64_t vq(unsigned n, int32_t v);             /* a parameter in Q16 per SP, <sf> applied (4.8.4) */
+void vq_compute(unsigned n);                   /* the cached vq() values (axis_t q_*) */
+
+/* The cached vq() values: recomputed when a parameter of the axis changed
+ * (par_gen), TURBO changed (STP, 4.1.3: x10), and at E (the cruise limits
+ * follow the target). */
+static inline __attribute__((always_inline)) uint8_t vq_turbo(const axis_t *x)
+{
+    return MAC4_CARD == MAC4_CARD_STP && (x->sstat & SB(TURBO));   /* 4.1.3: STP only */
+}
+static inline __attribute__((always_inline)) void vq_refresh_x(axis_t *x, unsigned n)
+{
+    if (x->q_gen != par_gen[n] || x->q_turbo != vq_turbo(x))
+        vq_compute(n);
+}
+#define vq_refresh(n) vq_refresh_x(axis_at[n], (n))
+
+static inline int64_t meas_q(unsigned n) { return Q16(axes[n].meas); }
+static inline int at_rest(const axis_t *x) { return x->prof.vel == 0 && !x->braking; }
+int64_t target_of(unsigned n, int32_t user);   /* a user position (with <ao>) as a target */
+void arm_index(unsigned n);                    /* the index latch for a search */
+void brake_done(axis_t *x);                    /* the tick's brake stands: the profile goes on */
+void stop_done(unsigned n);                    /* a protective stop has ended (motion_supervise.c) */
+void pos_end_check(unsigned n);                /* 5.6: <tr> for <trt> (motion_profile.c) */
+
+/* 5.14: on the STP every ramp of every mode starts from stand-still with
+ * <ssf> and stops from at most <ssf> (stepper.c); set per axis by
+ * profile_modes before the mode's step. */
+extern int64_t stp_ssf_now;
+#define STP_UNLIMITED ((int64_t)1 << 48)
+
+/* The ramp of every mode: the profile's, on the STP through <ssf>. */
+static inline __attribute__((always_inline)) int ramp(prof_t *p, int64_t vt, int64_t acc, int64_t dec)
+{
+    if (MAC4_CARD == MAC4_CARD_STP)
+        return stp_ramp(p, vt, acc, dec, stp_ssf_now);
+    return prof_ramp(p, vt, acc, dec);
+}
+
+void justify_modes(unsigned n);                /* one SP of 5.7-5.10 (motion_justify.c) */
+
+#endif
