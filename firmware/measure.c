@@ -172,7 +172,7 @@ void measure_init(unsigned n)
      * the host wrote, so a later INIT derives afresh. */
     if (et <= 2) {
         uint32_t reg = (MAC4_CARD == MAC4_CARD_SSI) ? AX_REG(n, AX_SSI_HI) : AX_REG(n, AX_CNT_HI);
-        par_a[P_EA][n] = (int32_t)(reg & 0xFFFFFFu);
+        params_force(n, P_EA, (int32_t)(reg & 0xFFFFFFu), PS_IN_FORCE);
         if (MAC4_CARD == MAC4_CARD_SSI) {
             int32_t bits = (int32_t)SSI_CLOCKS - PAR(n, SC);
             if (eb > bits)
@@ -181,7 +181,7 @@ void measure_init(unsigned n)
             eb = 24;
             ec = 0;
         }
-        par_a[P_EB][n] = eb;
+        params_force(n, P_EB, eb, PS_IN_FORCE);
     }
     /* the range in force: <ec>, or 2^<eb> for 0 or anything larger */
     uint32_t lim = eb_mask(eb);
@@ -190,7 +190,7 @@ void measure_init(unsigned n)
     c->lim = lim;
     c->range = lim < eb_mask(eb) ? (int32_t)(lim + 1u) : 0;
     c->half = c->range >> 1;
-    par_a[P_EC][n] = lim < (uint32_t)INT32_MAX ? (int32_t)(lim + 1u) : 0;   /* 0: 2^<eb> */
+    params_force(n, P_EC, lim < (uint32_t)INT32_MAX ? (int32_t)(lim + 1u) : 0, PS_IN_FORCE);   /* 0: 2^<eb> */
     /* where an external position is read; cmd.c refused INIT otherwise */
     uint32_t ea = (uint32_t)PAR(n, EA);
     c->path = EXT_NONE;                                 /* read_raw() fails: encoder error */
