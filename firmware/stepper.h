@@ -146,6 +146,14 @@ static inline __attribute__((always_inline)) int32_t stp_measured(unsigned n, in
     s->conv = m;
     return d;
 }
+/* The STP measures in steps: encoder increments through <ms>/(4 <es>); the
+ * step counter itself follows DIR, which USR turns round (4.4.2.3, 4.2). */
+static inline __attribute__((always_inline)) int32_t measure_steps(const axis_t *x, unsigned n, int32_t d)
+{
+    if (stp_conv & (1u << n))
+        return stp_measured(n, d);
+    return (x->ustat & UB(REV_O)) ? -d : d;
+}
 int32_t stp_counts(unsigned n);               /* position counter in its units (RCPI) */
 int32_t stp_edge(unsigned n, int32_t d);      /* index latched d counts from here: steps */
 int32_t stp_tol(unsigned n);                  /* steps the encoder ratio leaves open */
