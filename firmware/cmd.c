@@ -41,13 +41,8 @@ _Static_assert(NCMDS <= 256 && NPARAMS <= 256, "cmd_t.arg is a byte");
  * its offset: one move), or computed by cmd_read_value() (CK_DIAG, cmd_read.c). */
 #define DIAG_FIELD(f) CK_FIELD, offsetof(axis_t, f)
 #define DIAG_RCP  DIAG_FIELD(pos)
-#if MAC4_CARD == MAC4_CARD_STP
-#define DIAG_RCPI CK_DIAG, CI_RCPI          /* encoder increments since INIT */
-#define DIAG_ROUT CK_DIAG, CI_ROUT          /* step frequency, Steps/SP (table 6.2) */
-#else
-#define DIAG_RCPI DIAG_FIELD(counter)
-#define DIAG_ROUT CK_DIAG, CI_ROUT          /* the DAC word, sign-extended */
-#endif
+#define DIAG_RCPI CK_DIAG, CI_RCPI          /* STP only: encoder increments since INIT */
+#define DIAG_ROUT CK_DIAG, CI_ROUT          /* the DAC word; STP: Steps/SP (table 6.2) */
 #define DIAG_RCT  DIAG_FIELD(counter)
 #define DIAG_RED  DIAG_FIELD(raw)
 #define DIAG_RFE  DIAG_FIELD(ferr)

@@ -164,29 +164,25 @@ static int do_init(unsigned a)
         return ERR_LIMIT;
     if (PAR_W(a, ET) >= 3 && !measure_ea_ok((uint32_t)PAR_W(a, EA), PAR_W(a, EB)))
         return ERR_LIMIT;                         /* external encoder: no usable <ea> for this <eb> */
-#if MAC4_CARD != MAC4_CARD_STP
-    /* INIT needs the axis disabled: the tick drives 0 V there and, with its
-     * measurement of the axis held off until the supervision after INIT
-     * (mk_tick), reads nothing INIT writes - so the bulk of INIT runs with
-     * interrupts enabled (the other axes' ticks are not held off by it). */
-    axes[a].mk_tick = MK_NONE;
+    /* INIT needs the axis disabled: the servo tick drives 0 V there and,
+     * with its measurement of the axis held off until the supervision after
+     * INIT (mk_tick), reads nothing INIT writes - so the bulk of INIT runs
+     * with interrupts enabled (the other axes' ticks are not held off by
+     * it).  The STP's tick works on a disabled axis' step output and step
+     * count too (stp_t, which the measurement's set-up rewrites): that part
+     * stays masked.  The parameters' activation only copies the axis'
+     * written values, which no interrupt reads on a disabled axis but one at
+     * a time in a single move (<irq6>, <irq5>): unmasked on every card. */
+    if (MAC4_CARD != MAC4_CARD_STP)
+        axes[a].mk_tick = MK_NONE;
     cmd_unmask();
     params_activate(a, PK_SYS);
     params_activate(a, PK_MODE);
-    axis_init_measurement(a);
+    if (MAC4_CARD != MAC4_CARD_STP)
+        axis_init_measurement(a);
     cmd_remask();
-#else
-    /* The STP's tick works on a disabled axis' step output and step count
-     * too (stp_t, which the measurement's set-up rewrites): that part stays
-     * masked.  The parameters' activation only copies the axis' written
-     * values, which no interrupt reads on a disabled axis but one at a time
-     * in a single move (<irq6>, <irq5>): unmasked. */
-    cmd_unmask();
-    params_activate(a, PK_SYS);
-    params_activate(a, PK_MODE);
-    cmd_remask();
-    axis_init_measurement(a);
-#endif
+    if (MAC4_CARD == MAC4_CARD_STP)
+        axis_init_measurement(a);
     axes[a].ustat |= UB(INIT);
     axes[a].next_mode = NO_MODE;
     return 0;

@@ -54,7 +54,7 @@ int cmd_write_param_checked(unsigned a, unsigned p, int32_t v)
         if (axis_initialised(a)) {
             /* <ao> such that the actual position becomes v (4.3.2) */
             int32_t ao = pos_sub(v, axes[a].meas);
-            par_w[P_AO][a] = par_a[P_AO][a] = ao;
+            params_force(a, P_AO, ao, PS_WRITTEN);
             axis_set_pos(a);
         }
         axes[a].zp_value = v;
@@ -67,9 +67,7 @@ int cmd_write_param_checked(unsigned a, unsigned p, int32_t v)
     if (p == P_IRQ1 || p == P_IRQ2)
         cmd_irq12_update();
     if (p == P_SSF && PAR_W(a, LV) > v) {   /* 4.8.3: <lv> follows a lower <ssf> */
-        par_w[P_LV][a] = v;
-        par_a[P_LV][a] = v;
-        par_gen[a]++;
+        params_force(a, P_LV, v, PS_WRITTEN);
     }
     return 0;
 }

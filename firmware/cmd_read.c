@@ -12,9 +12,6 @@
 #include "cmd_table.h"
 #include "params.h"
 #include "ext.h"
-#if MAC4_CARD == MAC4_CARD_STP
-#include "stepper.h"
-#endif
 
 uint32_t cmd_read_value(cmd_t c, unsigned a)
 {
@@ -28,12 +25,8 @@ uint32_t cmd_read_value(cmd_t c, unsigned a)
     }
     switch (c.arg) {
     case CI_VER: return FW_VER_WORD;
-#if MAC4_CARD == MAC4_CARD_STP
-    case CI_RCPI: return (uint32_t)stp_counts(a);
-    case CI_ROUT: return (uint32_t)stp_out_steps_sp(a);
-#else
-    case CI_ROUT: return (uint32_t)(int32_t)x->out;
-#endif
+    case CI_RCPI:
+    case CI_ROUT: return cmd_read_card(c.arg, a);
     case CI_RPS: return (uint32_t)(int32_t)(x->prof.vel >> 16);
     case CI_RAS: return card_ostat;
     default: return ext_read(c.arg, a);

@@ -87,5 +87,8 @@ int cmd_target_ok(unsigned a, int32_t t);
 uint16_t cmd_execute_other(cmd_t c, unsigned a, uint32_t param);
 /* cmd_read.c: the value of a read (kind_is_read) */
 uint32_t cmd_read_value(cmd_t c, unsigned a);
+/* per card, servo_meas.c (INC, SSI) or stp_meas.c (STP): the diagnosis
+ * values read from the card's own stages, ROUT and the STP's RCPI (ci) */
+uint32_t cmd_read_card(unsigned ci, unsigned a);
 
 #endif

@@ -10,15 +10,9 @@
 #include "card.h"
 #include "params.h"
 #include "measure.h"
-#if MAC4_CARD == MAC4_CARD_STP
-#include "stepper.h"
-#endif
 
 meas_cfg_t meas_cfg[MAC4_NAXES];
 static uint32_t eb_mask(int32_t eb) { return eb >= 32 ? 0xFFFFFFFFu : (((uint32_t)1 << eb) - 1u); }
-
-
-
 
 /* The host's own DPRAM after manual table 3.1 (docs/memory-map.md): per
  * axis the flag field and counter content from $3308 + n*$400 to the end of
@@ -54,39 +48,6 @@ int measure_ea_ok(uint32_t ea, int32_t eb)
     return eb <= 16 || (ea & (VME_WIN_SIZE - 1u)) <= VME_WIN_SIZE - 4u;
 }
 
-/* An external position (<et> 3/4, 3.5.2, 4.4.2.1) where INIT found it
- * (meas_cfg.path): 0 and the value, or -1 when the measurement failed. */
-static inline __attribute__((always_inline)) int ext_read(axis_t *x, unsigned n, const meas_cfg_t *c, uint32_t *raw)
-{
-    uint32_t v;
-    switch (c->path) {
-    case EXT_DPRAM:                                     /* external, via the DPRAM (3.5.2) */
-        if (hal_rd16(c->addr - 2u) & 0x8000u) {
-            x->raw = hal_rd32(c->addr);
-            hal_wr16(c->addr - 2u, 0);                  /* the host may write the next one */
-            vme_irq((uint8_t)PAR(n, IRQ6));
-        }
-        *raw = x->raw;
-        return 0;
-    case EXT_VME16:                                     /* external over the VMEbus, A24 window */
-        hal_wr16(VME_PAGE, c->page);
-        v = hal_rd16(c->addr);
-        break;
-    case EXT_VME32: {                                   /* LSW at <ea>+2 first (4.4.2.1) */
-        hal_wr16(VME_PAGE, c->page);
-        uint32_t lsw = hal_rd16(c->addr + 2u);
-        v = ((uint32_t)hal_rd16(c->addr) << 16) | lsw;
-        break;
-    }
-    default:
-        return -1;                                      /* no address INIT accepted: touch nothing */
-    }
-    if (hal_rd16(VME_STATUS) & VME_ST_BERR)
-        return -1;
-    *raw = v;
-    return 0;
-}
-
 /* Returns 0 and the raw value, or -1 when the measurement failed. */
 static int read_raw(unsigned n, uint32_t *raw)
 {
@@ -108,7 +69,7 @@ static int read_raw(unsigned n, uint32_t *raw)
         *raw = v;
         return 0;
     }
-    return ext_read(&axes[n], n, &meas_cfg[n], raw);
+    return measure_ext_read(&axes[n], n, &meas_cfg[n], raw);
 }
 
 
@@ -126,45 +87,18 @@ void measure_encoder_error(unsigned n)
     axis_disable(n);                                    /* without a ramp */
 }
 
-void measure_ext(axis_t *x, meas_cfg_t *c, unsigned n)
-{
-    uint32_t raw;
-    if (ext_read(x, n, c, &raw)) {
-        measure_encoder_error(n);
-        return;
-    }
-    raw &= c->mask;
-    if (raw > c->lim) {                                 /* beyond <ec> (4.4.2.1, 6.3.8) */
-        x->raw = raw;                                   /* RED shows what was read */
-        measure_encoder_error(n);
-        return;
-    }
-#if MAC4_CARD == MAC4_CARD_STP
-    /* absolute: the reading against the counter in its increments */
-    int32_t d = c->abs ? (int32_t)(raw - (uint32_t)stp_counts(n)) : measure_delta(x, c, raw);
-#else
-    int32_t d = measure_delta(x, c, raw);
-#endif
-    x->raw = raw;
-    x->counter = raw;
-#if MAC4_CARD == MAC4_CARD_STP
-    d = measure_steps(x, n, d);
-#endif
-    measure_apply(x, d);
-}
-
 void measure_init(unsigned n)
 {
     axis_t *x = axis_at[n];
     meas_cfg_t *c = &meas_cfg[n];
     int32_t et = PAR(n, ET), eb = PAR(n, EB), ec = PAR(n, EC);
-#if MAC4_CARD == MAC4_CARD_SSI
-    /* the code of the first reading is J1's now (the status follows at every tick) */
-    if (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_GRAY)
-        x->ustat |= UB(GRAY);
-    else
-        x->ustat &= ~UB(GRAY);
-#endif
+    if (MAC4_CARD == MAC4_CARD_SSI) {
+        /* the code of the first reading is J1's now (the status follows at every tick) */
+        if (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_GRAY)
+            x->ustat |= UB(GRAY);
+        else
+            x->ustat &= ~UB(GRAY);
+    }
     /* Table 4.3 "def." (docs/interpretations.md): the counter of INC/STP is
      * 24 bits whatever was written; on the SSI board the receiver delivers
      * 26 - <sc> bits, so <eb> is at most that, and a written <ec> limits the
@@ -172,7 +106,7 @@ void measure_init(unsigned n)
      * the host wrote, so a later INIT derives afresh. */
     if (et <= 2) {
         uint32_t reg = (MAC4_CARD == MAC4_CARD_SSI) ? AX_REG(n, AX_SSI_HI) : AX_REG(n, AX_CNT_HI);
-        par_a[P_EA][n] = (int32_t)(reg & 0xFFFFFFu);
+        params_force(n, P_EA, (int32_t)(reg & 0xFFFFFFu), PS_IN_FORCE);
         if (MAC4_CARD == MAC4_CARD_SSI) {
             int32_t bits = (int32_t)SSI_CLOCKS - PAR(n, SC);
             if (eb > bits)
@@ -181,7 +115,7 @@ void measure_init(unsigned n)
             eb = 24;
             ec = 0;
         }
-        par_a[P_EB][n] = eb;
+        params_force(n, P_EB, eb, PS_IN_FORCE);
     }
     /* the range in force: <ec>, or 2^<eb> for 0 or anything larger */
     uint32_t lim = eb_mask(eb);
@@ -190,7 +124,7 @@ void measure_init(unsigned n)
     c->lim = lim;
     c->range = lim < eb_mask(eb) ? (int32_t)(lim + 1u) : 0;
     c->half = c->range >> 1;
-    par_a[P_EC][n] = lim < (uint32_t)INT32_MAX ? (int32_t)(lim + 1u) : 0;   /* 0: 2^<eb> */
+    params_force(n, P_EC, lim < (uint32_t)INT32_MAX ? (int32_t)(lim + 1u) : 0, PS_IN_FORCE);   /* 0: 2^<eb> */
     /* where an external position is read; cmd.c refused INIT otherwise */
     uint32_t ea = (uint32_t)PAR(n, EA);
     c->path = EXT_NONE;                                 /* read_raw() fails: encoder error */
@@ -224,9 +158,7 @@ void measure_init(unsigned n)
         if (et == 2 || et == 4)
             x->meas = (int32_t)raw;
     }
-#if MAC4_CARD == MAC4_CARD_STP
-    stp_init(n);                                        /* ratio, tolerance, BR; meas in steps */
-#endif
+    measure_init_card(n);                               /* STP: ratio, tolerance, BR; meas in steps */
     axis_prepare(n);
     axis_set_pos(n);
 }

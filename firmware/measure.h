@@ -4,9 +4,7 @@
 #include <stdint.h>
 #include "hal.h"
 #include "card.h"
-#if MAC4_CARD == MAC4_CARD_STP
-#include "stepper.h"
-#endif
+#include "params.h"
 
 void measure_init(unsigned n);     /* INIT: derive <ea>/<eb>/<ec>, zero relative position */
 /* May an external position (<et> 3/4) be read at <ea> with <eb> significant
@@ -34,9 +32,70 @@ typedef struct {
 } meas_cfg_t;
 extern meas_cfg_t meas_cfg[MAC4_NAXES];
 void measure_encoder_error(unsigned n);   /* 6.3.8, once (measure.c) */
-/* The tick's external measurement (MK_OTHER), out of line so that the tick's
- * common paths keep their registers; the pointers are the tick's constants. */
+
+/* ---- per card: servo_meas.c (INC, SSI), stp_meas.c (STP) -------------------
+ * The tick's external measurement (MK_OTHER), out of line so that the tick's
+ * common paths keep their registers; the pointers are the tick's constants.
+ * The STP turns the reading into steps (4.4.2.3). */
 void measure_ext(axis_t *x, meas_cfg_t *c, unsigned n);
+/* The end of INIT's set-up (measure_init), before the tick's copies: the
+ * STP's ratio, tolerance and BR check; nothing on INC/SSI. */
+void measure_init_card(unsigned n);
+
+/* An external position (<et> 3/4, 3.5.2, 4.4.2.1) where INIT found it
+ * (meas_cfg.path): 0 and the value, or -1 when the measurement failed.
+ * INIT's first reading (measure.c) and the tick's (measure_ext_checked). */
+static inline __attribute__((always_inline)) int measure_ext_read(axis_t *x, unsigned n, const meas_cfg_t *c,
+                                                                  uint32_t *raw)
+{
+    uint32_t v;
+    switch (c->path) {
+    case EXT_DPRAM:                                     /* external, via the DPRAM (3.5.2) */
+        if (hal_rd16(c->addr - 2u) & 0x8000u) {
+            x->raw = hal_rd32(c->addr);
+            hal_wr16(c->addr - 2u, 0);                  /* the host may write the next one */
+            vme_irq((uint8_t)PAR(n, IRQ6));
+        }
+        *raw = x->raw;
+        return 0;
+    case EXT_VME16:                                     /* external over the VMEbus, A24 window */
+        hal_wr16(VME_PAGE, c->page);
+        v = hal_rd16(c->addr);
+        break;
+    case EXT_VME32: {                                   /* LSW at <ea>+2 first (4.4.2.1) */
+        hal_wr16(VME_PAGE, c->page);
+        uint32_t lsw = hal_rd16(c->addr + 2u);
+        v = ((uint32_t)hal_rd16(c->addr) << 16) | lsw;
+        break;
+    }
+    default:
+        return -1;                                      /* no address INIT accepted: touch nothing */
+    }
+    if (hal_rd16(VME_STATUS) & VME_ST_BERR)
+        return -1;
+    *raw = v;
+    return 0;
+}
+
+/* The tick's external reading within <eb> and <ec>: 0 and the value, or -1
+ * after an encoder error (6.3.8); RED shows a value beyond <ec>. */
+static inline __attribute__((always_inline)) int measure_ext_checked(axis_t *x, meas_cfg_t *c, unsigned n,
+                                                                     uint32_t *rawp)
+{
+    uint32_t raw;
+    if (measure_ext_read(x, n, c, &raw)) {
+        measure_encoder_error(n);
+        return -1;
+    }
+    raw &= c->mask;
+    if (raw > c->lim) {                                 /* beyond <ec> (4.4.2.1, 6.3.8) */
+        x->raw = raw;
+        measure_encoder_error(n);
+        return -1;
+    }
+    *rawp = raw;
+    return 0;
+}
 
 static inline __attribute__((always_inline)) uint32_t gray_to_binary(uint32_t g)
 {
@@ -66,7 +125,7 @@ static inline __attribute__((always_inline)) int32_t circular_delta(const axis_t
  * for every system: absolute on a linear axis the reading is the position;
  * on a circular one the encoder's wrap is the axis' (4.3.1.2); relative,
  * the counter wraps at <ec> or at 2^<eb> (table 4.3; less than half of it
- * per tick).  The STP's absolute systems count in increments (measure_ext).
+ * per tick).  The STP's absolute systems count in increments (stp_meas.c).
  * abs_linear, a constant: the caller knows the axis is absolute and linear
  * (MK_SSI_ABS), so none of the tests is made. */
 static inline __attribute__((always_inline)) int32_t measure_delta_k(const axis_t *x, const meas_cfg_t *c,
@@ -133,17 +192,6 @@ static inline __attribute__((always_inline)) int32_t measure_counter(axis_t *x, 
     x->counter = (c + (uint32_t)d) & 0xFFFFFFu;
     return d;
 }
-
-#if MAC4_CARD == MAC4_CARD_STP
-/* The STP measures in steps: encoder increments through <ms>/(4 <es>); the
- * step counter itself follows DIR, which USR turns round (4.4.2.3, 4.2). */
-static inline __attribute__((always_inline)) int32_t measure_steps(const axis_t *x, unsigned n, int32_t d)
-{
-    if (stp_conv & (1u << n))
-        return stp_measured(n, d);
-    return (x->ustat & UB(REV_O)) ? -d : d;
-}
-#endif
 
 /* The motion d into the measured position and the displayed one, which a
  * circular axis keeps in 0 .. <cr>-1 (4.3.1.2).  RAV: card_supervise.

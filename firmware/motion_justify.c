@@ -25,7 +25,7 @@ static void justified(unsigned n, int set_zero)
     x->done = 1;
     if (set_zero) {
         /* the index pulse is the axis' reference: position 0 there (4.9) */
-        par_w[P_AO][n] = par_a[P_AO][n] = -x->edge;
+        params_force(n, P_AO, -x->edge, PS_WRITTEN);
         axis_set_pos(n);
     }
     x->ustat |= UB(JUS_END);

@@ -56,5 +56,20 @@ int32_t par_written(unsigned axis, unsigned p);
 /* v within the parameter's range: the command's first check (cmd.c write_param) */
 void params_write(unsigned axis, unsigned p, int32_t v);
 void params_activate(unsigned axis, uint8_t kind);       /* E: PK_MODE, INIT: PK_SYS */
+/* A value the card sets itself, not the host (no range check, no wait for
+ * E or INIT): in force at once, and with PS_WRITTEN read back by R.. too.
+ * PS_IN_FORCE: INIT's derived <ea>/<eb>/<ec> (table 4.3; UR.. keeps what
+ * the host wrote, so a later INIT derives afresh).  PS_WRITTEN: <ao> from
+ * <zp> or a justification (4.3.2, 4.9), <lv> following a lower <ssf>
+ * (4.8.3).  Per-axis parameters only (the card derives no PF_CARD one);
+ * par_gen stays: no cached value (motion.c vq) depends on these.  Inline:
+ * two stores where the call would cost more. */
+enum { PS_IN_FORCE, PS_WRITTEN };
+static inline void params_force(unsigned axis, unsigned p, int32_t v, int how)
+{
+    par_a[p][axis] = v;
+    if (how == PS_WRITTEN)
+        par_w[p][axis] = v;
+}
 
 #endif

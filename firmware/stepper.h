@@ -61,13 +61,6 @@ static inline __attribute__((always_inline)) int32_t stp_scale(int32_t c, uint32
     return c < 0 ? -(int32_t)v : (int32_t)v;
 }
 int32_t stp_scale_call(int32_t c, uint32_t ratio_q16);   /* the same as a call: for the paths of an event */
-/* The step-rate register for a distance of mag (Q16 steps) in one 8 ms
- * tick: the generator adds the rate 400 times per tick (TURBO: 4000), so
- * rate = mag / 400; *carry keeps the remainder for the next tick, so the
- * rates sum up to the distance exactly.  Saturates at 0xFFFF. */
-uint16_t stp_rate_of(uint32_t mag, uint32_t *carry, uint16_t clocks_per_tick);
-/* Hz of a rate register value: x 0.7629 (TURBO x 7.629). */
-int32_t stp_hz_of(uint16_t rate, int turbo);
 /* The rate register for f Hz (test mode, the creep): f / 0.7629, rounded
  * down, so <lv> never comes out above <ssf>. */
 uint16_t stp_rate_hz(uint32_t hz);
@@ -148,6 +141,14 @@ static inline __attribute__((always_inline)) int32_t stp_measured(unsigned n, in
     s->conv = m;
     return d;
 }
+/* The STP measures in steps: encoder increments through <ms>/(4 <es>); the
+ * step counter itself follows DIR, which USR turns round (4.4.2.3, 4.2). */
+static inline __attribute__((always_inline)) int32_t measure_steps(const axis_t *x, unsigned n, int32_t d)
+{
+    if (stp_conv & (1u << n))
+        return stp_measured(n, d);
+    return (x->ustat & UB(REV_O)) ? -d : d;
+}
 int32_t stp_counts(unsigned n);               /* position counter in its units (RCPI) */
 int32_t stp_edge(unsigned n, int32_t d);      /* index latched d counts from here: steps */
 int32_t stp_tol(unsigned n);                  /* steps the encoder ratio leaves open */
@@ -166,9 +167,11 @@ void stp_trim(unsigned n);
 void stp_idle_output(unsigned n);             /* disabled or test mode */
 int32_t stp_out_steps_sp(unsigned n);         /* ROUT, Steps/SP (table 6.2) */
 
-/* The rate register for t = |distance| + carry Q16 steps in this tick:
- * t / 400 (stp_rate_of), the remainder carried to the next tick; at or
- * beyond lim the register saturates and the carry is dropped. */
+/* The rate register for t = |distance| + carry Q16 steps in this tick: the
+ * generator adds the rate once per clock, 400 clocks per tick (TURBO 4000),
+ * so rate = t / clocks, the remainder carried to the next tick and the
+ * rates sum up to the distance exactly; at or beyond lim (clocks << 16) the
+ * register saturates and the carry is dropped.  (tests/unit/test_stepper.c) */
 static inline __attribute__((always_inline)) void stp_load_rate(stp_t *s, uint32_t t)
 {
     if (t >= s->lim) {

@@ -136,25 +136,6 @@ uint32_t stp_ratio_q16(uint32_t ms, uint32_t es, int *exact)
     return v;
 }
 
-
-uint16_t stp_rate_of(uint32_t mag, uint32_t *carry, uint16_t clocks_per_tick)
-{
-    uint32_t t = mag + *carry;
-    if (t < mag || t >= ((uint32_t)clocks_per_tick << 16)) {
-        *carry = 0;
-        return 0xFFFFu;                          /* beyond 50 kHz (500 kHz): saturated */
-    }
-    uint32_t qr = stp_divu16(t, clocks_per_tick);
-    *carry = qr >> 16;
-    return (uint16_t)qr;
-}
-
-int32_t stp_hz_of(uint16_t rate, int turbo)
-{
-    int32_t hz = (int32_t)((mulu16(rate, 25000u) + 0x4000u) >> 15);   /* x 50000 / 65536 */
-    return turbo ? hz * 10 : hz;
-}
-
 int64_t stp_ssf_grid(int64_t ssf, int turbo)
 {
     /* one rate LSB for a whole SP of four ticks, in Q16 steps per SP */

@@ -66,8 +66,7 @@ MUTATIONS = [
      "            if (v < dec)\n                v = dec + 1;", ALL, None),
     # the STP's rate stage (table 4.1) and ramps
     # (the rate path of the firmware is stepper.h's stp_load_rate and
-    # stp_hz_now; stepper.c's stp_rate_of and stp_hz_of are their reference
-    # for tests/unit/test_stepper.c only)
+    # stp_hz_now, which tests/unit/test_stepper.c tests too)
     ("stp-hz-round", "firmware/stepper.h", "(mulu16(s->rate, 25000u) + 0x4000u) >> 15", "(mulu16(s->rate, 25000u)) >> 15",
      STP, None),
     ("stp-rate-saturate", "firmware/stepper.h", "        s->rate = 0xFFFFu;", "        s->rate = 0xFFFEu;", STP, None),

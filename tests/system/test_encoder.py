@@ -7,7 +7,7 @@ import re
 import pytest
 
 from conftest import CARDS
-from mac4 import ERR, EXT_POS, MODE, codes, ext_value, has, run, signed, ubits
+from mac4 import ERR, EXT_POS, MODE, board, codes, ext_value, has, run, signed, ubits
 from test_serial import parse, rx_bytes
 
 ERR_LIMIT, ERR_LOGICAL = ERR["limit_f"], ERR["logo_f"]
@@ -45,8 +45,9 @@ def test_init_refuses_the_default_ea(card, et):
 BAD_EA = [1, 0x3301, 0x330B, 0x80C001, 0xFFFFFF,
           2, 0x0102, 0x0400, 0x2FFE, 0x3000, 0x3002, 0x3020, 0x3308, 0x36FE, 0x3708,
           0x33FE,                                  # value crosses into axis 2's block
-          0x4002, 0x45FE, 0x4600, 0x4602,          # card data, stop bits
-          0x4700, 0x4704, 0x4718, 0x4800, 0x4818, 0x48FE, 0x4900,   # queues
+          board.DP_CARD_DATA + 2, board.DP_STOP_BITS - 2, board.DP_STOP_BITS, board.DP_STOP_BITS + 2,   # card data, stop bits
+          board.DP_CMD_QUEUE, board.DP_CMD_QUEUE + 4, board.DP_CMD_QUEUE + 0x18,               # queues
+          board.DP_RSP_QUEUE, board.DP_RSP_QUEUE + 0x18, board.DP_RSP_QUEUE + 0xFE, board.DP_RSP_QUEUE + 0x100,
           0xFFEC, 0xFFFE]
 GOOD_EA = [0x330A, 0x370A, 0x3B0A, 0x3F0A, 0x330C, 0x33FA, 0x3F0C, 0x4902, 0x8000, 0xFFEA,
            0x10000, 0x80C000, 0xFFFFFE]

@@ -8,7 +8,7 @@ import os
 import pytest
 
 from conftest import BOOT, sim
-from mac4 import code, BIT
+from mac4 import code, BIT, board
 
 VECTOR = 97
 CPU_HZ = 16000000
@@ -36,7 +36,7 @@ def compare_run(tmp_path, card="inc", p0=1000, n=500, end=5000, target=8000, bac
               "run %d" % (5500 if card == "stp" else 1500)]
     if back:
         lines += ["send 0 WAP %d" % base, "send 0 E", "run %d" % (3000 if card == "stp" else 1500)]
-    lines += ["trace off", "send 0 RPCC", "send 0 RPCI", "send 0 RBS", "peek32 0x4038", "run 5"]
+    lines += ["trace off", "send 0 RPCC", "send 0 RPCI", "send 0 RBS", "peek32 0x%X" % board.DPC_VME_IRQ_LOST, "run 5"]
     r = sim("\n".join(lines) + "\n", card, args=["--timestamps"])
     assert r.rc == 0, r.stderr
     col = "generated" if card == "stp" else "position"     # what the card counts (STP: its steps)
@@ -86,7 +86,7 @@ def test_a_small_n_at_speed_gives_one_interrupt_per_tick_and_counts_all(tmp_path
     expiries = [t for t, _ in rows]
     ticks = [max(k for k, t in enumerate(expiries) if t <= i - 0.002) for i in irqs]
     assert len(set(ticks)) == len(ticks), "two compare interrupts after one tick"
-    assert [l.split()[-1] for l in r.grep(r"peek32 0x4038")] == ["0x00000000"]                              # no VME interrupt lost (DPC_VME_IRQ_LOST)
+    assert [l.split()[-1] for l in r.grep(r"peek32 0x%X" % board.DPC_VME_IRQ_LOST)] == ["0x00000000"]                              # no VME interrupt lost (DPC_VME_IRQ_LOST)
 
 
 def test_once_interrupts_once_and_counts_every_crossing(tmp_path):

@@ -8,7 +8,7 @@
   error while a stop bit brakes with <pd>) takes the stronger ramp.
 """
 from conftest import BOOT, sim
-from mac4 import BIT, MODE, code
+from mac4 import BIT, MODE, board, code
 
 
 def ub(*names):
@@ -83,7 +83,7 @@ def test_a_limit_switch_during_a_stop_bit_brake_takes_the_ed_ramp():
             "send 0 INIT", "send 0 ME", "send 0 E", "run 20",
             "send 0 WPA %d" % (500 if stp else 20), "send 0 WPD %d" % (20 if stp else 2),
             "send 0 WVT %d" % (2000 if stp else 100), "send 0 MS", "send 0 E", "run %d" % (600 if stp else 300),
-            "plant 0", "poke16 0x4600 0x0002", "run 3000", "plant 0", "send 0 RBS", "send 0 ME", "send 0 RBS",
+            "plant 0", "poke16 0x%X 0x0002" % board.DP_STOP_BITS, "run 3000", "plant 0", "send 0 RBS", "send 0 ME", "send 0 RBS",
             "run 5"]
         r = run(lines, card)
         p = r.grep(r"^plant 0 ")

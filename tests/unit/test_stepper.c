@@ -1,8 +1,12 @@
-/* The MAC4-STP arithmetic (firmware/stp_profile.c, stp_rate.c): the <ssf> rule of the
- * profile (5.14), the increment/step ratio (4.4.2.3), the rate register. */
+/* The MAC4-STP arithmetic (firmware/stp_profile.c) and rate stage (stepper.h,
+ * stp_rate.c): the <ssf> rule of the profile (5.14), the increment/step ratio
+ * (4.4.2.3), the rate register and the frequency it gives.  Built for the STP
+ * (UNIT_CARD_test_stepper, tests/unit/unit.mk). */
 #include "unit_support.h"
 #include <stdlib.h>
 #include "stepper.h"
+
+_Static_assert(MAC4_CARD == MAC4_CARD_STP, "the STP's rate stage: built with MAC4_CARD 2 (unit.mk)");
 
 
 static int64_t mag(int64_t v) { return v < 0 ? -v : v; }
@@ -182,25 +186,67 @@ static void ratio_examples_of_4_4_2_3_are_exact(void **st)
     }
 }
 
+/* The firmware's rate stage (stepper.h, stp_rate.c), as stp_motion_start and
+ * stp_init leave it: <clocks> generator clocks per tick, lim = clocks << 16. */
+static stp_t rate_stage(uint16_t clocks)
+{
+    stp_t s = {0};
+    s.clocks = clocks;
+    s.lim = (uint32_t)clocks << 16;
+    return s;
+}
+
+/* One tick's distance mag (Q16 steps) into the register, as stp_rate.c
+ * does: the carry of the tick before added, a wrapped sum saturated. */
+static void load(stp_t *s, uint32_t mag)
+{
+    uint32_t t = mag + s->carry;
+    stp_load_rate(s, t < mag ? 0xFFFFFFFFu : t);
+}
+
 static void rates_sum_up_to_the_distance(void **st)
 {
     (void)st;
     for (int i = 0; i < 2000; i++) {
         uint16_t clocks = (rnd32() & 1) ? STP_TICK_CLOCKS : STP_TICK_CLOCKS_TURBO;
-        uint32_t carry = 0;
+        stp_t s = rate_stage(clocks);
         uint64_t sent = 0, want = 0;
         for (int k = 0; k < 200; k++) {
             uint32_t mag = rnd32() % ((uint32_t)clocks * 65535u);
-            uint16_t r = stp_rate_of(mag, &carry, clocks);
+            load(&s, mag);
             want += mag;
-            sent += (uint64_t)r * clocks;
-            assert_true(carry < clocks);
-            assert_true(want - sent == carry);   /* nothing lost, nothing made up */
+            sent += (uint64_t)s.rate * clocks;
+            assert_true(s.carry < clocks);
+            assert_true(want - sent == s.carry);   /* nothing lost, nothing made up */
         }
     }
-    uint32_t carry = 0;
-    assert_true(stp_rate_of(65536u * 400u, &carry, 400) == 0xFFFFu && carry == 0);   /* 50 kHz: saturated */
-    assert_true(stp_rate_of(65535u * 400u, &carry, 400) == 0xFFFFu);
+    /* the register's end: clocks * 65536 Q16 steps a tick and more saturate,
+     * the carry dropped; one less is the last exact one */
+    for (int turbo = 0; turbo < 2; turbo++) {
+        uint16_t clocks = turbo ? STP_TICK_CLOCKS_TURBO : STP_TICK_CLOCKS;
+        stp_t s = rate_stage(clocks);
+        stp_load_rate(&s, ((uint32_t)clocks << 16) - 1u);
+        assert_true(s.rate == 0xFFFFu && s.carry == clocks - 1u);
+        stp_load_rate(&s, (uint32_t)clocks << 16);
+        assert_true(s.rate == 0xFFFFu && s.carry == 0);
+        s.carry = clocks - 1u;
+        load(&s, 0xFFFFFFFFu);                   /* the sum wraps: saturated */
+        assert_true(s.rate == 0xFFFFu && s.carry == 0);
+        load(&s, 3u * clocks + 1u);
+        assert_true(s.rate == 3 && s.carry == 1);
+        load(&s, 0);
+        assert_true(s.rate == 0 && s.carry == 1);
+    }
+}
+
+/* The frequency the firmware publishes (DPRAM ROUT in Hz) and ROUT in
+ * Steps/SP (table 6.2), from the rate register of axis n. */
+static int32_t hz_of(unsigned n, uint16_t rate, int turbo, int8_t dir)
+{
+    stp_ax[n] = rate_stage(turbo ? STP_TICK_CLOCKS_TURBO : STP_TICK_CLOCKS);
+    stp_ax[n].rate = rate;
+    stp_ax[n].dir = dir;
+    return stp_hz_now(n);
 }
 
 static void hz_and_the_rate_grid(void **st)
@@ -208,12 +254,27 @@ static void hz_and_the_rate_grid(void **st)
     (void)st;
     assert_true(stp_rate_hz(30) == 39);           /* 29.75 Hz: never above the 30 Hz asked */
     assert_true(stp_rate_hz(8) == 10);
-    assert_true(stp_hz_of(39, 0) == 30 && stp_hz_of(131, 1) == 1000);
+    assert_true(hz_of(0, 39, 0, 1) == 30 && hz_of(1, 131, 1, 1) == 1000);
+    assert_true(hz_of(2, 39, 0, -1) == -30 && hz_of(3, 0, 1, -1) == 0);
+    assert_true(hz_of(0, 0xFFFF, 0, 1) == 49999 && hz_of(0, 0xFFFF, 1, -1) == -499990);
     assert_true(stp_rate_hz(50000) == 65536u - 1u || stp_rate_hz(50000) == 65535u);
     for (uint32_t f = 1; f <= 50000; f += 7) {
         uint16_t r = stp_rate_hz(f);
         assert_true((double)r * 50000.0 / 65536.0 <= f + 1e-9);
         assert_true((double)(r + 1) * 50000.0 / 65536.0 > f - 0.001);
+    }
+    /* every register value: Hz = rate x 50 000 / 65 536 rounded (TURBO
+     * ten times that), signed by the direction; Steps/SP = Hz x 32 ms */
+    for (uint32_t r = 0; r <= 0xFFFFu; r++) {
+        unsigned n = r & 3u;
+        int turbo = (r >> 2) & 1u;
+        int8_t dir = (r >> 3) & 1u ? -1 : 1;
+        int32_t hz = hz_of(n, (uint16_t)r, turbo, dir);
+        double exact = (double)r * 50000.0 / 65536.0;
+        int32_t want = (int32_t)(exact + 0.5) * (turbo ? 10 : 1);
+        assert_true(hz == (dir < 0 ? -want : want));
+        int32_t sp = stp_out_steps_sp(n), a = hz < 0 ? -hz : hz, q = hz < 0 ? -sp : sp;
+        assert_true(q >= 0 && llabs(1000ll * q - 32ll * a) <= 504);   /* rounded: (4 Hz + 62) / 125 */
     }
     /* <ssf> on the grid: a multiple of one rate LSB over the four ticks */
     assert_true(stp_ssf_grid(62915, 0) == 62400);

@@ -1,0 +1,33 @@
+/*
+ * servo_meas.c - the MAC4-INC/SSI's part of the measurement (measure.h,
+ * "per card") and of the diagnosis (cmd_read.c); the STP's is stp_meas.c.
+ * The INC and SSI images link it (Makefile, FW_SERVO).
+ */
+#include "fw.h"
+#include "card.h"
+#include "measure.h"
+#include "cmd.h"
+#include "cmd_table.h"
+
+
+void measure_ext(axis_t *x, meas_cfg_t *c, unsigned n)
+{
+    uint32_t raw;
+    if (measure_ext_checked(x, c, n, &raw))
+        return;
+    int32_t d = measure_delta(x, c, raw);
+    x->raw = raw;
+    x->counter = raw;
+    measure_apply(x, d);
+}
+
+void measure_init_card(unsigned n)
+{
+    (void)n;                        /* a servo axis' measurement is measure_init's alone */
+}
+
+uint32_t cmd_read_card(unsigned ci, unsigned a)
+{
+    (void)ci;                       /* ROUT: RCPI is not on the INC/SSI (commands.def) */
+    return (uint32_t)(int32_t)axis_at[a]->out;      /* the DAC word, sign-extended */
+}
