@@ -1,6 +1,7 @@
 /* card.h - firmware state of the card and its four axes. */
 #ifndef CARD_H
 #define CARD_H
+#include "inline.h"
 #include <stdint.h>
 #include "status.h"
 #include "profile.h"
@@ -138,13 +139,13 @@ static inline void split_q16(int64_t q, int32_t *i, uint16_t *f)
 #define BR_HALF 0x8000u
 static inline void brake_set_pos(axis_t *x, int64_t q16) { x->br_posh = q16 + BR_HALF; }
 static inline int64_t brake_pos(const axis_t *x) { return x->br_posh - BR_HALF; }
-static inline __attribute__((always_inline)) int32_t brake_setpoint(const axis_t *x)
+FW_INLINE int32_t brake_setpoint(const axis_t *x)
 {
     return (int32_t)(x->br_posh >> 16);
 }
 /* brake_pos() as the integer part and fraction (split_q16) without a 64-bit
  * subtraction: the fraction's top bit flipped, a borrow below one half */
-static inline __attribute__((always_inline)) void brake_split(const axis_t *x, int32_t *i, uint16_t *f)
+FW_INLINE void brake_split(const axis_t *x, int32_t *i, uint16_t *f)
 {
     uint16_t lo = (uint16_t)x->br_posh;
     *i = (int32_t)((uint32_t)(x->br_posh >> 16) - (lo < BR_HALF));
@@ -174,11 +175,11 @@ extern uint16_t card_profile_late;          /* SP boundaries without a prepared 
  * work is card_supervise_tick(). */
 extern uint32_t card_supervised;            /* card_ticks at the last supervision */
 void card_supervise_tick(void);
-static inline __attribute__((always_inline)) int card_supervise_due(void)
+FW_INLINE int card_supervise_due(void)
 {
     return *(volatile uint32_t *)&card_ticks != card_supervised;
 }
-static inline __attribute__((always_inline)) void card_supervise(void)
+FW_INLINE void card_supervise(void)
 {
     if (card_supervise_due())
         card_supervise_tick();
@@ -206,7 +207,7 @@ extern volatile uint8_t vme_irq_waiting;
 void vme_irq_service_do(void);
 void vme_irq_reset(void);                   /* card_reset: nothing waiting */
 extern uint32_t virq_lost;                  /* requests the FIFO had no room for (DPC_VME_IRQ_LOST) */
-static inline __attribute__((always_inline)) void vme_irq_service(void)
+FW_INLINE void vme_irq_service(void)
 {
     if (vme_irq_waiting)
         vme_irq_service_do();

@@ -14,6 +14,7 @@
  *   6. an unacknowledged error       -> 163 (6.3.7)
  *   7. the command itself            -> its code and the user status, or 162/163
  */
+#include "inline.h"
 #include <stddef.h>
 #include "fw.h"
 #include "hal.h"
@@ -66,7 +67,7 @@ static const cmd_t cmds[] = {   /* as long as the highest code + 1 */
 
 #define NCODES (sizeof cmds / sizeof cmds[0])
 
-static inline __attribute__((always_inline)) cmd_t cmd_of(uint16_t code)
+FW_INLINE cmd_t cmd_of(uint16_t code)
 {
     static const cmd_t none = {CK_NONE, 0};
     return code < NCODES ? cmds[code] : none;
@@ -225,7 +226,7 @@ void cmd_execute(const mac4_msg_t *in, mac4_msg_t *out)
 }
 
 /* ---- the interfaces ------------------------------------------------------ */
-static inline __attribute__((always_inline)) void respond(const mac4_msg_t *out)
+FW_INLINE void respond(const mac4_msg_t *out)
 {
     if (out->source == MSG_SRC_SERIAL) {
         serial_send(out);
@@ -245,7 +246,7 @@ static inline __attribute__((always_inline)) void respond(const mac4_msg_t *out)
     }
 }
 
-static inline __attribute__((always_inline)) void execute_and_respond(const mac4_msg_t *in)
+FW_INLINE void execute_and_respond(const mac4_msg_t *in)
 {
     mac4_msg_t out;
     /* A command always follows the supervision of the ticks before it, and
@@ -291,7 +292,7 @@ static void watchdog_check(void)
 
 /* ---- off-fly: commands in series per axis (5.15) -------------------------- */
 /* The axis' move runs off-fly: its commands wait for the end of it. */
-static inline __attribute__((always_inline)) int axis_in_series(unsigned a)
+FW_INLINE int axis_in_series(unsigned a)
 {
     return !(axis_at[a]->ustat & UB(ON_FLY)) && motion_busy(a);
 }

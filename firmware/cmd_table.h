@@ -10,6 +10,7 @@
  */
 #ifndef CMD_TABLE_H
 #define CMD_TABLE_H
+#include "inline.h"
 #include <stdint.h>
 #include "fw.h"
 #include "hal.h"
@@ -36,7 +37,7 @@ static inline int kind_is_read(uint8_t kind) { return kind >= CK_READ; }
 extern uint32_t cmd_wd_last_us;
 void cmd_irq12_update(void);       /* after a write of <irq1>/<irq2> (cmd.c) */
 
-static inline __attribute__((always_inline)) uint32_t now_us(void)
+FW_INLINE uint32_t now_us(void)
 {
     uint32_t hi = hal_rd16(TMR_FREE_HI);   /* latches the low word */
     return (hi << 16) | hal_rd16(TMR_FREE_LO);

@@ -11,6 +11,7 @@
  */
 #ifndef EXT_H
 #define EXT_H
+#include "inline.h"
 #include <stdint.h>
 #include "fw.h"
 #include "mac4_map.h"
@@ -115,7 +116,7 @@ extern uint16_t ext_on;
 void ext_reset(void);                   /* card reset: all off */
 void ext_axis_init(unsigned n);         /* INIT of axis n: its measurement was reset */
 void ext_supervise_do(void);            /* after each tick's supervision, while ext_on: the slices due */
-static inline __attribute__((always_inline)) void ext_supervise(void)
+FW_INLINE void ext_supervise(void)
 {
     if (ext_on)
         ext_supervise_do();
@@ -142,7 +143,7 @@ extern volatile uint8_t ext_due;
 extern uint16_t ext_late;               /* rounds late: the next tick came first (REXL) */
 void ext_slice(void);
 void ext_work_do(void);                 /* slices while no command waits */
-static inline __attribute__((always_inline)) void ext_work(void)
+FW_INLINE void ext_work(void)
 {
     if (ext_due)
         ext_work_do();

@@ -15,6 +15,7 @@
 /* The extensions run after every tick: their hot paths compiled for speed
  * (the rest of the firmware for size, Makefile OPT68). */
 #pragma GCC optimize("O2")
+#include "inline.h"
 #include "fw.h"
 #include "hal.h"
 #include "mul16.h"
@@ -29,7 +30,7 @@ ext_comp_t ext_comp[MAC4_NAXES];
 ext_comp_t *const ext_comp_at[MAC4_NAXES] = {&ext_comp[0], &ext_comp[1], &ext_comp[2], &ext_comp[3]};
 
 /* ---- the arithmetic (unit-tested natively against a double model) --------- */
-static inline __attribute__((always_inline)) int32_t lerp(int32_t a, int32_t b, uint16_t f, uint16_t sp)
+FW_INLINE int32_t lerp(int32_t a, int32_t b, uint16_t f, uint16_t sp)
 {
     int32_t d = b - a;
     if (d == 0 || f == 0)
@@ -59,7 +60,7 @@ void ext_cell_set(ext_cell_t *c, int32_t pos)
     c->off = (uint16_t)off;
 }
 
-static inline __attribute__((always_inline)) void cell_move(ext_cell_t *c, int32_t pos)
+FW_INLINE void cell_move(ext_cell_t *c, int32_t pos)
 {
     int32_t d = pos_sub(pos, c->pos);
     int32_t sp = c->sp;
@@ -93,7 +94,7 @@ void ext_cell_move(ext_cell_t *c, int32_t pos) { cell_move(c, pos); }
 
 /* The grid index and offset of a source: beyond the span the edge value
  * without wrap (the PMAC always rolls over; docs/extensions.md). */
-static inline __attribute__((always_inline)) void cell_at(const ext_cell_t *c, unsigned *j, uint16_t *f)
+FW_INLINE void cell_at(const ext_cell_t *c, unsigned *j, uint16_t *f)
 {
     if (c->cell < 0) {
         *j = 0;
@@ -107,7 +108,7 @@ static inline __attribute__((always_inline)) void cell_at(const ext_cell_t *c, u
     }
 }
 
-static inline __attribute__((always_inline)) int32_t comp_value(const ext_comp_t *t)
+FW_INLINE int32_t comp_value(const ext_comp_t *t)
 {
     unsigned j, i = 0;
     uint16_t f, g = 0;
@@ -133,7 +134,7 @@ int32_t ext_comp_value(const ext_comp_t *t) { return comp_value(t); }
 /* A source's position as the table reads it, in the frame of RCP (with
  * <ao>): the actual position without the source's own correction (the
  * encoder's), or the setpoint of the last tick (desired). */
-static inline __attribute__((always_inline)) int32_t source_pos(unsigned s, int desired)
+FW_INLINE int32_t source_pos(unsigned s, int desired)
 {
     const axis_t *x = axis_at[s];
     int32_t p = desired ? x->setpoint : pos_sub(x->meas, ext_comp_at[s]->cin);

@@ -10,6 +10,7 @@
 /* The extensions run after every tick: their hot paths compiled for speed
  * (the rest of the firmware for size, Makefile OPT68). */
 #pragma GCC optimize("O2")
+#include "inline.h"
 #include "fw.h"
 #include "hal.h"
 #include "card.h"
@@ -42,14 +43,14 @@ void ext_pc_locate(ext_pc_t *c, int64_t p)
 }
 
 /* One point up or down from where idx stands (the neighbouring range). */
-static inline __attribute__((always_inline)) void step_up(ext_pc_t *c)
+FW_INLINE void step_up(ext_pc_t *c)
 {
     c->idx++;
     c->lo = c->hi;
     c->hi = c->idx == c->k ? P_HIGH : c->hi + c->n;
 }
 
-static inline __attribute__((always_inline)) void step_down(ext_pc_t *c)
+FW_INLINE void step_down(ext_pc_t *c)
 {
     c->idx--;
     c->hi = c->lo;
@@ -73,7 +74,7 @@ uint32_t ext_pc_cross(ext_pc_t *c, int64_t p)
     return (uint32_t)(d < 0 ? -d : d);
 }
 
-static inline __attribute__((always_inline)) int64_t pc_pos(unsigned n)
+FW_INLINE int64_t pc_pos(unsigned n)
 {
     return (int64_t)pos_add(axis_at[n]->meas, par_a[P_AO][n]);
 }

@@ -20,6 +20,7 @@
 /* The extensions run after every tick: their hot paths compiled for speed
  * (the rest of the firmware for size, Makefile OPT68). */
 #pragma GCC optimize("O2")
+#include "inline.h"
 #include "fw.h"
 #include "hal.h"
 #include "mul16.h"
@@ -40,7 +41,7 @@ uint8_t ext_fb_sel;
 #define ERR_MAX 16383                            /* |in - out| taken at most this, counts */
 
 /* e x g / 2^23 for |e| < 2^30 (Q16) and g <= 2^23: MULU.W, no 64-bit arithmetic */
-static inline __attribute__((always_inline)) int32_t mul_gain(int32_t e, uint32_t g)
+FW_INLINE int32_t mul_gain(int32_t e, uint32_t g)
 {
     uint32_t a = (uint32_t)(e < 0 ? -e : e), hi, lo;
     mulu31(a, g, &hi, &lo);
@@ -49,20 +50,20 @@ static inline __attribute__((always_inline)) int32_t mul_gain(int32_t e, uint32_
 }
 
 /* The filter's output plus a Q16 step */
-static inline __attribute__((always_inline)) void add_q16(ext_fb_t *e, int32_t step)
+FW_INLINE void add_q16(ext_fb_t *e, int32_t step)
 {
     uint32_t f = (uint32_t)e->qf + (uint16_t)step;
     e->qi = pos_add(pos_add(e->qi, step >> 16), (int32_t)(f >> 16));
     e->qf = (uint16_t)f;
 }
 
-static inline __attribute__((always_inline)) int32_t out_rounded(const ext_fb_t *e)
+FW_INLINE int32_t out_rounded(const ext_fb_t *e)
 {
     return pos_add(e->qi, e->qf >= 0x8000u);
 }
 
 /* in - out in Q16, |in - out| limited to ERR_MAX counts */
-static inline __attribute__((always_inline)) int32_t err_q16(const ext_fb_t *e, int32_t in)
+FW_INLINE int32_t err_q16(const ext_fb_t *e, int32_t in)
 {
     int32_t d = pos_sub(in, e->qi);
     if (d > ERR_MAX)

@@ -1,6 +1,7 @@
 /* measure.h - position measurement (manual 4.4, table 4.3). */
 #ifndef MEASURE_H
 #define MEASURE_H
+#include "inline.h"
 #include <stdint.h>
 #include "hal.h"
 #include "card.h"
@@ -45,7 +46,7 @@ void measure_init_card(unsigned n);
 /* An external position (<et> 3/4, 3.5.2, 4.4.2.1) where INIT found it
  * (meas_cfg.path): 0 and the value, or -1 when the measurement failed.
  * INIT's first reading (measure.c) and the tick's (measure_ext_checked). */
-static inline __attribute__((always_inline)) int measure_ext_read(axis_t *x, unsigned n, const meas_cfg_t *c,
+FW_INLINE int measure_ext_read(axis_t *x, unsigned n, const meas_cfg_t *c,
                                                                   uint32_t *raw)
 {
     uint32_t v;
@@ -79,7 +80,7 @@ static inline __attribute__((always_inline)) int measure_ext_read(axis_t *x, uns
 
 /* The tick's external reading within <eb> and <ec>: 0 and the value, or -1
  * after an encoder error (6.3.8); RED shows a value beyond <ec>. */
-static inline __attribute__((always_inline)) int measure_ext_checked(axis_t *x, meas_cfg_t *c, unsigned n,
+FW_INLINE int measure_ext_checked(axis_t *x, meas_cfg_t *c, unsigned n,
                                                                      uint32_t *rawp)
 {
     uint32_t raw;
@@ -97,7 +98,7 @@ static inline __attribute__((always_inline)) int measure_ext_checked(axis_t *x, 
     return 0;
 }
 
-static inline __attribute__((always_inline)) uint32_t gray_to_binary(uint32_t g)
+FW_INLINE uint32_t gray_to_binary(uint32_t g)
 {
     g ^= g >> 16;
     g ^= g >> 8;
@@ -111,7 +112,7 @@ static inline __attribute__((always_inline)) uint32_t gray_to_binary(uint32_t g)
  * with the axis, 0 .. <cr>-1, so the motion since the last reading is the
  * shorter way round (less than half a turn per tick); the measured position
  * runs on across the wrap, the displayed one wraps (measure_apply). */
-static inline __attribute__((always_inline)) int32_t circular_delta(const axis_t *x, uint32_t raw)
+FW_INLINE int32_t circular_delta(const axis_t *x, uint32_t raw)
 {
     int32_t d = (int32_t)(raw - x->counter), half = x->cr >> 1;
     if (d > half)
@@ -128,7 +129,7 @@ static inline __attribute__((always_inline)) int32_t circular_delta(const axis_t
  * per tick).  The STP's absolute systems count in increments (stp_meas.c).
  * abs_linear, a constant: the caller knows the axis is absolute and linear
  * (MK_SSI_ABS), so none of the tests is made. */
-static inline __attribute__((always_inline)) int32_t measure_delta_k(const axis_t *x, const meas_cfg_t *c,
+FW_INLINE int32_t measure_delta_k(const axis_t *x, const meas_cfg_t *c,
                                                                      uint32_t raw, int abs_linear)
 {
     if (abs_linear || (c->abs && x->linear))
@@ -149,7 +150,7 @@ static inline __attribute__((always_inline)) int32_t measure_delta_k(const axis_
     return (int32_t)u;
 }
 
-static inline __attribute__((always_inline)) int32_t measure_delta(const axis_t *x, const meas_cfg_t *c,
+FW_INLINE int32_t measure_delta(const axis_t *x, const meas_cfg_t *c,
                                                                    uint32_t raw)
 {
     return measure_delta_k(x, c, raw, 0);
@@ -160,7 +161,7 @@ static inline __attribute__((always_inline)) int32_t measure_delta(const axis_t 
  * (AX_CTRL_SSI_SYNC) and the tick came when it was done (TMR_CTRL_SSI_WAIT;
  * the poll is the safety net).  0 and the motion since the last reading, or
  * -1 after an encoder error. */
-static inline __attribute__((always_inline)) int measure_ssi(axis_t *x, unsigned n, int32_t *dp, int abs_linear)
+FW_INLINE int measure_ssi(axis_t *x, unsigned n, int32_t *dp, int abs_linear)
 {
     meas_cfg_t *c = &meas_cfg[n];
     for (unsigned i = 0; (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY) && i < 200; i++)
@@ -185,7 +186,7 @@ static inline __attribute__((always_inline)) int measure_ssi(axis_t *x, unsigned
  * relative (table 4.3): one word, AX_CNT_LIVE, whose 16-bit difference to
  * the last reading is the period's motion (docs/memory-map.md); the 24-bit
  * value is the firmware's (RCT; RED follows in card_supervise). */
-static inline __attribute__((always_inline)) int32_t measure_counter(axis_t *x, unsigned n)
+FW_INLINE int32_t measure_counter(axis_t *x, unsigned n)
 {
     uint32_t c = x->counter;
     int32_t d = (int16_t)(uint16_t)(hal_rd16(AX_REG(n, AX_CNT_LIVE)) - (uint16_t)c);
@@ -196,7 +197,7 @@ static inline __attribute__((always_inline)) int32_t measure_counter(axis_t *x, 
 /* The motion d into the measured position and the displayed one, which a
  * circular axis keeps in 0 .. <cr>-1 (4.3.1.2).  RAV: card_supervise.
  * linear, a constant: the caller knows the axis is linear (MK_SSI_ABS). */
-static inline __attribute__((always_inline)) void measure_apply_k(axis_t *x, int32_t d, int linear)
+FW_INLINE void measure_apply_k(axis_t *x, int32_t d, int linear)
 {
     x->meas = pos_add(x->meas, d);
     int32_t pos = pos_add(x->pos, d);
@@ -209,6 +210,6 @@ static inline __attribute__((always_inline)) void measure_apply_k(axis_t *x, int
     x->pos = pos;
 }
 
-static inline __attribute__((always_inline)) void measure_apply(axis_t *x, int32_t d) { measure_apply_k(x, d, 0); }
+FW_INLINE void measure_apply(axis_t *x, int32_t d) { measure_apply_k(x, d, 0); }
 
 #endif

@@ -2,6 +2,7 @@
  * its stages, motion_priv.h). */
 #ifndef MOTION_H
 #define MOTION_H
+#include "inline.h"
 #include <stdint.h>
 #include "card.h"
 #include "stepper.h"            /* stp_plan_t */
@@ -43,7 +44,7 @@ int motion_at_rest(unsigned n);
  * linear axis within its software limits (or a protective stop already
  * running).  The common case, tested inline by card_supervise(); it must
  * stay a subset of what motion_supervise() would leave alone. */
-static inline __attribute__((always_inline)) int motion_quiet(const axis_t *x)
+FW_INLINE int motion_quiet(const axis_t *x)
 {
     if (x->braking || (x->ustat & (UB(HWL_P) | UB(HWL_N) | UB(SWL_P) | UB(SWL_N))))
         return 0;

@@ -11,6 +11,7 @@
  */
 #ifndef MOTION_PRIV_H
 #define MOTION_PRIV_H
+#include "inline.h"
 #include "card.h"
 #include "params.h"
 #include "profile.h"
@@ -24,11 +25,11 @@ void vq_compute(unsigned n);                   /* the cached vq() values (axis_t
 /* The cached vq() values: recomputed when a parameter of the axis changed
  * (par_gen), TURBO changed (STP, 4.1.3: x10), and at E (the cruise limits
  * follow the target). */
-static inline __attribute__((always_inline)) uint8_t vq_turbo(const axis_t *x)
+FW_INLINE uint8_t vq_turbo(const axis_t *x)
 {
     return MAC4_CARD == MAC4_CARD_STP && (x->sstat & SB(TURBO));   /* 4.1.3: STP only */
 }
-static inline __attribute__((always_inline)) void vq_refresh_x(axis_t *x, unsigned n)
+FW_INLINE void vq_refresh_x(axis_t *x, unsigned n)
 {
     if (x->q_gen != par_gen[n] || x->q_turbo != vq_turbo(x))
         vq_compute(n);
@@ -50,7 +51,7 @@ extern int64_t stp_ssf_now;
 #define STP_UNLIMITED ((int64_t)1 << 48)
 
 /* The ramp of every mode: the profile's, on the STP through <ssf>. */
-static inline __attribute__((always_inline)) int ramp(prof_t *p, int64_t vt, int64_t acc, int64_t dec)
+FW_INLINE int ramp(prof_t *p, int64_t vt, int64_t acc, int64_t dec)
 {
     if (MAC4_CARD == MAC4_CARD_STP)
         return stp_ramp(p, vt, acc, dec, stp_ssf_now);

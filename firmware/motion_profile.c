@@ -5,6 +5,7 @@
  * boundary (tick_servo.c take_row, tick_stp.c stp_take_segment).
  * Everything runs in the measurement frame (position without <ao>), in Q16.
  */
+#include "inline.h"
 #include "fw.h"
 #include "hal.h"
 #include "mul16.h"
@@ -44,7 +45,7 @@ static void limit_guard(axis_t *x, unsigned n, const prof_t *was, int64_t dec)
 /* The four setpoints of an SP that moves d (Q16, |d| < 2^30) from before:
  * row k = round(before + (k+1) floor(d / 4)), the last round(before + d) -
  * what the split arithmetic of next_segment gives. */
-static inline __attribute__((always_inline)) void rows_of(axis_t *x, int64_t before, int32_t d)
+FW_INLINE void rows_of(axis_t *x, int64_t before, int32_t d)
 {
     x->sp_vel_next = d;
     int32_t *r = x->sp_next;
@@ -65,7 +66,7 @@ static inline __attribute__((always_inline)) void rows_of(axis_t *x, int64_t bef
 
 static void next_segment_wide(axis_t *x, int64_t before);
 
-static inline __attribute__((always_inline)) void next_segment(axis_t *x, int64_t before)
+FW_INLINE void next_segment(axis_t *x, int64_t before)
 {
     int64_t dd = x->prof.pos - before;
     if (MAC4_CARD != MAC4_CARD_STP && dd < (1l << 30) && dd > -(1l << 30)) {

@@ -7,6 +7,7 @@
  */
 #ifndef PROFILE_H
 #define PROFILE_H
+#include "inline.h"
 #include <stdint.h>
 #include "mul16.h"
 
@@ -121,7 +122,7 @@ int prof_must_brake(int64_t v, int64_t dec, int64_t rem);
  * nothing saturates in this range; two or three MULU.W (mulu31) instead of
  * two 32 x 32 products.  It grows with v: where it holds for v it holds for
  * every faster speed. */
-static inline __attribute__((always_inline)) int prof_brake_d8(uint32_t v, uint32_t d8, uint32_t rem)
+FW_INLINE int prof_brake_d8(uint32_t v, uint32_t d8, uint32_t rem)
 {
     uint32_t v8 = v >> 8, r8 = rem >> 8, vd = v8 + d8;
     if (vd < 0x10000u && r8 < 0x800000u) {
@@ -142,18 +143,18 @@ static inline __attribute__((always_inline)) int prof_brake_d8(uint32_t v, uint3
     mulu31(d8, r8 << 1, &h2, &l2);
     return h1 > h2 || (h1 == h2 && l1 >= l2);
 }
-static inline __attribute__((always_inline)) uint32_t prof_d8(uint32_t dec)
+FW_INLINE uint32_t prof_d8(uint32_t dec)
 {
     return dec >> 8 ? dec >> 8 : 1u;
 }
-static inline __attribute__((always_inline)) int prof_must_brake32(uint32_t v, uint32_t dec, uint32_t rem)
+FW_INLINE int prof_must_brake32(uint32_t v, uint32_t dec, uint32_t rem)
 {
     return prof_brake_d8(v, prof_d8(dec), rem);
 }
 
 /* Does prof_step32 apply: rem = target - pos within +-(2^32 - 1), the
  * velocity within +-2^30? */
-static inline __attribute__((always_inline)) int prof_fits32(const prof_t *p, int64_t rem)
+FW_INLINE int prof_fits32(const prof_t *p, int64_t rem)
 {
     /* by the words: a 64-bit comparison is a dozen 68000 instructions */
     int32_t rh = (int32_t)(rem >> 32), vh = (int32_t)(p->vel >> 32);
@@ -170,7 +171,7 @@ static inline __attribute__((always_inline)) int prof_fits32(const prof_t *p, in
  * 1 on landing.  One braking test per SP while accelerating or braking:
  * where the speed of the moment must brake, a faster one must too.  Inline:
  * the profile generator's braking and landing step. */
-static inline __attribute__((always_inline)) int prof_step32(prof_t *p, int64_t rem64, const prof_lim32_t *l,
+FW_INLINE int prof_step32(prof_t *p, int64_t rem64, const prof_lim32_t *l,
                                                              int32_t *step)
 {
     int32_t vel = (int32_t)p->vel;

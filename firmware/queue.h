@@ -8,6 +8,7 @@
  */
 #ifndef QUEUE_H
 #define QUEUE_H
+#include "inline.h"
 #include <stdint.h>
 #include "hal.h"
 
@@ -54,7 +55,7 @@ int q_put(uint32_t q, const mac4_msg_t *m);
  * leave the element area.  The header is read once: the indices checked
  * are the indices used (a host writing between a check and a second read
  * could otherwise steer the card out of the queue). */
-static inline __attribute__((always_inline)) int q_header_at(uint32_t q, uint16_t *front, uint16_t *rear)
+FW_INLINE int q_header_at(uint32_t q, uint16_t *front, uint16_t *rear)
 {
     if (hal_rd32(q + QH_BASE) != Q_HEADER_SIZE || hal_rd32(q + QH_WIDTH) != Q_WIDTH ||
         hal_rd32(q + QH_NEL) != Q_NEL)
@@ -78,7 +79,7 @@ static inline uint16_t q_elem_off(uint16_t i)
 /* Take the element at rear (the header checked, front != rear); its
  * source byte only when want_source (the command path answers a VME
  * command on the VMEbus whatever that byte says). */
-static inline __attribute__((always_inline)) void q_take_at(uint32_t q, uint16_t rear, mac4_msg_t *m,
+FW_INLINE void q_take_at(uint32_t q, uint16_t rear, mac4_msg_t *m,
                                                             int want_source)
 {
     uint32_t e = q + q_elem_off(rear);
@@ -91,7 +92,7 @@ static inline __attribute__((always_inline)) void q_take_at(uint32_t q, uint16_t
     hal_wr32(q + QH_REAR, rear == Q_NEL - 1u ? 0u : (uint32_t)rear + 1u);
 }
 
-static inline __attribute__((always_inline)) int q_get_at(uint32_t q, mac4_msg_t *m, int want_source)
+FW_INLINE int q_get_at(uint32_t q, mac4_msg_t *m, int want_source)
 {
     uint16_t front, rear;
     if (q_header_at(q, &front, &rear))
@@ -103,7 +104,7 @@ static inline __attribute__((always_inline)) int q_get_at(uint32_t q, mac4_msg_t
 }
 
 /* The message as scalars, so that a constant source costs nothing. */
-static inline __attribute__((always_inline)) int q_put_at(uint32_t q, uint8_t axis, uint16_t code, uint32_t param,
+FW_INLINE int q_put_at(uint32_t q, uint8_t axis, uint16_t code, uint32_t param,
                                                           uint8_t source)
 {
     uint16_t front, rear;

@@ -22,6 +22,7 @@
  */
 #ifndef SERVO_H
 #define SERVO_H
+#include "inline.h"
 #include <stdint.h>
 
 typedef struct {
@@ -64,7 +65,7 @@ int16_t servo_step_full(servo_state_t *s, const servo_gains_t *g, int32_t e);
 
 /* e within +-e_lim, one unsigned compare on the common path (0 < e_lim <
  * 2^15, so e + e_lim wraps only from beyond the limit) */
-static inline __attribute__((always_inline)) int16_t servo_e_limited(const servo_gains_t *g, int32_t e32)
+FW_INLINE int16_t servo_e_limited(const servo_gains_t *g, int32_t e32)
 {
     int32_t lim = g->e_lim;
     if ((uint32_t)e32 + (uint32_t)lim > 2u * (uint32_t)lim)
@@ -83,7 +84,7 @@ static inline __attribute__((always_inline)) int16_t servo_e_limited(const servo
  * MULS.W takes 38 cycles plus 2 per bit change of its source), each product
  * within 32 bits; po u1' as hi 256 + lo, 0 <= lo < 256.  Each MULS.W is up
  * to 70 cycles, so a zero term costs none. */
-static inline __attribute__((always_inline)) int16_t servo_filter(servo_state_t *s, const servo_gains_t *g,
+FW_INLINE int16_t servo_filter(servo_state_t *s, const servo_gains_t *g,
                                                                   int32_t e32)
 {
     int16_t e = servo_e_limited(g, e32);
@@ -126,7 +127,7 @@ static inline __attribute__((always_inline)) int16_t servo_filter(servo_state_t 
  * but one) and no <sw> limit the filter is K e plus the frozen integrator,
  * one MULS.W; the result is bit for bit what servo_step_full() gives for
  * those gains.  Everything else (a limit included) is servo_filter(). */
-static inline __attribute__((always_inline)) int16_t servo_step_k(servo_state_t *s, const servo_gains_t *g,
+FW_INLINE int16_t servo_step_k(servo_state_t *s, const servo_gains_t *g,
                                                                   int32_t e32)
 {
     int16_t e = servo_e_limited(g, e32);
@@ -142,7 +143,7 @@ static inline __attribute__((always_inline)) int16_t servo_step_k(servo_state_t 
     return (int16_t)u;
 }
 
-static inline __attribute__((always_inline)) int16_t servo_step(servo_state_t *s, const servo_gains_t *g,
+FW_INLINE int16_t servo_step(servo_state_t *s, const servo_gains_t *g,
                                                                 int32_t e32)
 {
     return g->full ? servo_step_full(s, g, e32) : servo_step_k(s, g, e32);

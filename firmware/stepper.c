@@ -20,6 +20,7 @@
  * increments (BR open, or an external encoder), which ms/(4 es) converts
  * to steps (4.4.2.3).  The STP's image alone links it (Makefile, FW_STP).
  */
+#include "inline.h"
 #include "fw.h"
 #include "hal.h"
 #include "mul16.h"
@@ -149,7 +150,7 @@ int stp_positioning(unsigned n, int64_t vmax, int64_t acc, int64_t dec, int64_t 
 
 /* Once per SP for every axis: the system status bits (7.1.2,
  * docs/interpretations.md). */
-static inline __attribute__((always_inline)) void status_of(axis_t *x, const stp_t *s)
+FW_INLINE void status_of(axis_t *x, const stp_t *s)
 {
     uint32_t ss = x->sstat & ~(SB(DR_DISABLE) | SB(SERVO_ON) | SB(BOOST) | SB(BOOST_EN) | SB(IRQ_LINE) |
                                SB(LED_FAULT) | SB(PHASE5) | SB(BOOST_LOCK));

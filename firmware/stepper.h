@@ -9,6 +9,7 @@
  */
 #ifndef STEPPER_H
 #define STEPPER_H
+#include "inline.h"
 #include <stdint.h>
 #include "profile.h"
 #include "mul16.h"
@@ -50,7 +51,7 @@ int stp_position(prof_t *p, int64_t target, int64_t vmax, int64_t acc, int64_t d
 uint32_t stp_ratio_q16(uint32_t ms, uint32_t es, int *exact);
 /* round(c * ratio) for a counter value c and a Q16 ratio: four MULU.W.
  * Inline: the tick converts every axis' increments with it. */
-static inline __attribute__((always_inline)) int32_t stp_scale(int32_t c, uint32_t ratio_q16)
+FW_INLINE int32_t stp_scale(int32_t c, uint32_t ratio_q16)
 {
     uint32_t a = c < 0 ? 0u - (uint32_t)c : (uint32_t)c;
     uint32_t r = ratio_q16;
@@ -121,7 +122,7 @@ extern stp_t stp_ax[MAC4_NAXES];
 
 /* AX_CTRL's DIR for a motion in direction dir: 0 V (bit set) = positive,
  * open collector = negative (table 2.12); USR turns it round (4.2). */
-static inline __attribute__((always_inline)) uint16_t stp_dir_bit(const axis_t *x, int8_t dir)
+FW_INLINE uint16_t stp_dir_bit(const axis_t *x, int8_t dir)
 {
     return ((dir >= 0) != ((x->ustat & UB(REV_O)) != 0)) ? AX_CTRL_DIR : 0;
 }
@@ -131,7 +132,7 @@ void stp_init(unsigned n);                    /* INIT: ratio, tolerance, counts 
 extern uint8_t stp_conv;                      /* bit n: axis n counts increments */
 /* tick: increments -> steps (the step count of the increments so far, less
  * that of the tick before) */
-static inline __attribute__((always_inline)) int32_t stp_measured(unsigned n, int32_t d)
+FW_INLINE int32_t stp_measured(unsigned n, int32_t d)
 {
     stp_t *s = &stp_ax[n];
     PIN_PTR(s);
@@ -143,7 +144,7 @@ static inline __attribute__((always_inline)) int32_t stp_measured(unsigned n, in
 }
 /* The STP measures in steps: encoder increments through <ms>/(4 <es>); the
  * step counter itself follows DIR, which USR turns round (4.4.2.3, 4.2). */
-static inline __attribute__((always_inline)) int32_t measure_steps(const axis_t *x, unsigned n, int32_t d)
+FW_INLINE int32_t measure_steps(const axis_t *x, unsigned n, int32_t d)
 {
     if (stp_conv & (1u << n))
         return stp_measured(n, d);
@@ -172,7 +173,7 @@ int32_t stp_out_steps_sp(unsigned n);         /* ROUT, Steps/SP (table 6.2) */
  * so rate = t / clocks, the remainder carried to the next tick and the
  * rates sum up to the distance exactly; at or beyond lim (clocks << 16) the
  * register saturates and the carry is dropped.  (tests/unit/test_stepper.c) */
-static inline __attribute__((always_inline)) void stp_load_rate(stp_t *s, uint32_t t)
+FW_INLINE void stp_load_rate(stp_t *s, uint32_t t)
 {
     if (t >= s->lim) {
         s->carry = 0;
@@ -194,7 +195,7 @@ void stp_servo_full_0(unsigned phase, int32_t old_i, uint16_t old_f);
 void stp_servo_full_1(unsigned phase, int32_t old_i, uint16_t old_f);
 void stp_servo_full_2(unsigned phase, int32_t old_i, uint16_t old_f);
 void stp_servo_full_3(unsigned phase, int32_t old_i, uint16_t old_f);
-static inline __attribute__((always_inline)) void stp_servo(axis_t *x, unsigned n, unsigned phase, int32_t old_i,
+FW_INLINE void stp_servo(axis_t *x, unsigned n, unsigned phase, int32_t old_i,
                                                             uint16_t old_f)
 {
     stp_t *s = &stp_ax[n];
@@ -225,7 +226,7 @@ static inline __attribute__((always_inline)) void stp_servo(axis_t *x, unsigned 
 }
 
 /* axis_output, every tick: DIR, BOOST, TURBO of AX_CTRL; returns the rate. */
-static inline __attribute__((always_inline)) uint16_t stp_output(unsigned n, uint8_t mode, uint16_t *ctrl)
+FW_INLINE uint16_t stp_output(unsigned n, uint8_t mode, uint16_t *ctrl)
 {
     stp_t *s = &stp_ax[n];
     PIN_PTR(s);
@@ -238,7 +239,7 @@ static inline __attribute__((always_inline)) uint16_t stp_output(unsigned n, uin
 /* Level 5 (fw_isr_axis): step pulses and the end of the pulse count, creep
  * phase.  Inline, and one copy per axis with constant addresses: no call,
  * no loop, no registers to save beyond the handler's own. */
-static inline __attribute__((always_inline)) void stp_isr_axis(unsigned k, unsigned p)
+FW_INLINE void stp_isr_axis(unsigned k, unsigned p)
 {
     if (!(p & (0x11u << k)))
         return;
@@ -256,7 +257,7 @@ static inline __attribute__((always_inline)) void stp_isr_axis(unsigned k, unsig
     hal_wr16(AX_REG(k, AX_CTRL), (uint16_t)(x->ctrl | ack));
 }
 
-static inline __attribute__((always_inline)) void stp_isr(uint16_t pending)
+FW_INLINE void stp_isr(uint16_t pending)
 {
     unsigned prev = hal_irq_save();              /* the tick writes AX_CTRL too */
     unsigned p = ((unsigned)pending >> 4) & 0xFFu;  /* bits 0-3 pulse, 4-7 done */

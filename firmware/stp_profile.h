@@ -5,6 +5,7 @@
  */
 #ifndef STP_PROFILE_H
 #define STP_PROFILE_H
+#include "inline.h"
 #include <stdint.h>
 #include "profile.h"
 
@@ -19,7 +20,7 @@ static inline int64_t mag64(int64_t v) { return v < 0 ? -v : v; }
 #define STP_R30 0x40000000u
 
 /* stp_must_brake() for 0 <= u, dec < 2^30, rem < 2^32, ssf >= 1. */
-static inline __attribute__((always_inline)) int stp_must_brake32(int32_t u, int32_t dec, uint32_t rem, int32_t ssf)
+FW_INLINE int stp_must_brake32(int32_t u, int32_t dec, uint32_t rem, int32_t ssf)
 {
     if (u <= ssf)
         return 0;
@@ -31,7 +32,7 @@ static inline __attribute__((always_inline)) int stp_must_brake32(int32_t u, int
 /* One SP of stp_position(): the distance to go as sign (neg) and magnitude
  * rem, the other values within 0 (vel: -2^30) .. 2^30, 1 <= ssf (see
  * stp_position for the rules). */
-static inline __attribute__((always_inline)) int stp_position32(prof_t *p, uint32_t rem, int neg, int32_t vel,
+FW_INLINE int stp_position32(prof_t *p, uint32_t rem, int neg, int32_t vel,
                                                                  int32_t vmax, int32_t acc, int32_t dec, int32_t ssf)
 {
     if (rem == 0 && vel <= ssf && vel >= -ssf) { /* landed: the stop */
@@ -89,7 +90,7 @@ static inline __attribute__((always_inline)) int stp_position32(prof_t *p, uint3
  * distance within +-(2^32 - 1) (65535 steps), vel within +-2^30, the
  * others within 0 .. 2^30 and ssf >= 1. */
 #define HI32(v) ((uint32_t)((uint64_t)(v) >> 32))
-static inline __attribute__((always_inline)) int stp_args32(const prof_t *p, int64_t target, int64_t vmax,
+FW_INLINE int stp_args32(const prof_t *p, int64_t target, int64_t vmax,
                                                              int64_t acc, int64_t dec, int64_t ssf, uint32_t *rem,
                                                              int *neg, int32_t *a)
 {

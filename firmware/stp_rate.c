@@ -5,6 +5,7 @@
  * stand-still, the output of a disabled or tested axis (5.13), ROUT.  The
  * STP's image alone links it (Makefile, FW_STP).
  */
+#include "inline.h"
 #include "fw.h"
 #include "hal.h"
 #include "mul16.h"
@@ -23,7 +24,7 @@
 #define PULSE_IRQ_MAX_RATE_TURBO 131u
 
 /* stp_edge() with the axis' pointers at hand (the tick's creep path). */
-static inline __attribute__((always_inline)) int32_t edge_of(const axis_t *x, const stp_t *s, unsigned n, int32_t d)
+FW_INLINE int32_t edge_of(const axis_t *x, const stp_t *s, unsigned n, int32_t d)
 {
     if (stp_conv & (1u << n))
         return stp_scale_call(s->inc + d, s->ratio);   /* a creep's start, an index: a call */
@@ -34,7 +35,7 @@ int32_t stp_edge(unsigned n, int32_t d) { return edge_of(&axes[n], &stp_ax[n], n
 
 /* The position now, re-reading the counter (the tick's reading is from its
  * start); external encoders keep the tick's value. */
-static inline __attribute__((always_inline)) int32_t meas_now(const axis_t *x, const stp_t *s, unsigned n)
+FW_INLINE int32_t meas_now(const axis_t *x, const stp_t *s, unsigned n)
 {
     if (x->mk != MK_COUNTER)
         return x->meas;
@@ -71,7 +72,7 @@ void stp_creep_abort(unsigned n)
 
 /* Tick: the ramp has ended on creep_from, the generator still runs at the
  * ramp's last rate (at most <ssf>). */
-static inline __attribute__((always_inline)) void creep_begin(axis_t *x, stp_t *s, unsigned n, uint32_t reg)
+FW_INLINE void creep_begin(axis_t *x, stp_t *s, unsigned n, uint32_t reg)
 {
     hal_wr16(reg + AX_RATE, 0);                  /* no pulse while we count */
     s->rate = 0;
@@ -114,7 +115,7 @@ static inline __attribute__((always_inline)) void creep_begin(axis_t *x, stp_t *
 /* Tick, while a creep or a trim is requested or running: 1 if the
  * down-counter has the axis this tick, 2 if the setpoint moved under the
  * caller, 0 if nothing. */
-static inline __attribute__((always_inline)) int creep_tick(axis_t *x, stp_t *s, unsigned n, unsigned phase,
+FW_INLINE int creep_tick(axis_t *x, stp_t *s, unsigned n, unsigned phase,
                                                             int32_t old_i, uint16_t old_f)
 {
     uint32_t reg = AX_REG(n, 0);
@@ -186,7 +187,7 @@ void stp_trim(unsigned n)
  * stand-still, a jump.  One copy per axis (stp_servo_full_0..3), so that
  * the axis, its stp_t and its registers are constants: the tick in which
  * four creep phases begin runs four of them. */
-static inline __attribute__((always_inline)) void servo_full(unsigned n, unsigned phase, int32_t old_i,
+FW_INLINE void servo_full(unsigned n, unsigned phase, int32_t old_i,
                                                              uint16_t old_f)
 {
     axis_t *x = &axes[n];

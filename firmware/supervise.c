@@ -7,6 +7,7 @@
  * event: axis_disable() opens /EN at once, and a ramp is braked by the tick
  * itself from the next tick on (motion.c, brake_now).
  */
+#include "inline.h"
 #include "fw.h"
 #include "hal.h"
 #include "mul16.h"
@@ -52,7 +53,7 @@ static const uint32_t sw_ustat[8] = {
     UB(REF) | UB(HWL_N), UB(REF) | UB(HWL_P) | UB(HWL_N),
 };
 
-static inline __attribute__((always_inline)) void axis_inputs(unsigned n)
+FW_INLINE void axis_inputs(unsigned n)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
@@ -130,7 +131,7 @@ static void leds(void)
 /* INC/SSI: the setpoint and following error of the tick in phase ph, as it used
  * them (RCP-side values, the following-error check): the tick itself keeps
  * only what the next tick needs. */
-static inline __attribute__((always_inline)) void tick_result(axis_t *x, unsigned ph)
+FW_INLINE void tick_result(axis_t *x, unsigned ph)
 {
     if (x->mode == M_DISABLE) {
         x->setpoint = x->meas;
@@ -145,7 +146,7 @@ static inline __attribute__((always_inline)) void tick_result(axis_t *x, unsigne
  * (absolute register addresses): what the tick did, the inputs, the
  * protective reactions; with interrupts masked, so that it sees one tick's
  * results, never half of the next. */
-static inline __attribute__((always_inline)) void supervise_axis(unsigned n, unsigned ph)
+FW_INLINE void supervise_axis(unsigned n, unsigned ph)
 {
     unsigned prev = hal_irq_save();
     axis_t *x = &axes[n];

@@ -6,6 +6,7 @@
  */
 #ifndef TICK_H
 #define TICK_H
+#include "inline.h"
 #include "hal.h"
 #include "mul16.h"
 #include "card.h"
@@ -13,7 +14,7 @@
 
 /* The tick's own braking ramp (motion.c brake_now): the speed of this
  * tick, br_dec closer to 0 ... */
-static inline __attribute__((always_inline)) int32_t brake_slower(const axis_t *x)
+FW_INLINE int32_t brake_slower(const axis_t *x)
 {
     int32_t v = x->br_v, dv = x->br_dec;
     if (v > 0)
@@ -24,7 +25,7 @@ static inline __attribute__((always_inline)) int32_t brake_slower(const axis_t *
 }
 
 /* ... and the step at that speed. */
-static inline __attribute__((always_inline)) void brake_step(axis_t *x, int32_t v)
+FW_INLINE void brake_step(axis_t *x, int32_t v)
 {
     x->br_v = v;
     x->br_posh += v;
@@ -34,7 +35,7 @@ static inline __attribute__((always_inline)) void brake_step(axis_t *x, int32_t 
  * on the STP, DIR, BOOST, TURBO and the step rate register prepared by
  * stepper.c (stp_output; `out` is not used: the rate is exact to the Q16
  * step). */
-static inline __attribute__((always_inline)) void axis_output_at(unsigned n, int32_t out)
+FW_INLINE void axis_output_at(unsigned n, int32_t out)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);

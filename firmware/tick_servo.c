@@ -5,6 +5,7 @@
  * prepared for this tick -> servo filter -> DAC.  What looks at the result
  * is the supervision (supervise.c) in the main loop.
  */
+#include "inline.h"
 #include "fw.h"
 #include "hal.h"
 #include "mul16.h"
@@ -22,7 +23,7 @@
  * the registers are absolute addresses and the axis one address register;
  * ph4 is the tick's phase in the SP times 4 (the row offset in bytes).
  * /EN follows the mode in axis_set_mode(); here only the DAC. */
-static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned ph4, int general)
+FW_INLINE void tick_axis(unsigned n, unsigned ph4, int general)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
@@ -68,7 +69,7 @@ static inline __attribute__((always_inline)) void tick_axis(unsigned n, unsigned
 
 /* The SP boundary for INC/SSI (the STP's is stp_take_segment), inlined
  * with a constant n: 1 if late */
-static inline __attribute__((always_inline)) unsigned take_row(unsigned n)
+FW_INLINE unsigned take_row(unsigned n)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
@@ -89,7 +90,7 @@ static inline __attribute__((always_inline)) unsigned take_row(unsigned n)
 
 /* The tick, inlined twice: for K-only gains on every axis (the defaults)
  * and with the general filter inline (card_servo_general) */
-static inline __attribute__((always_inline)) void tick(int general)
+FW_INLINE void tick(int general)
 {
     hal_wr16(TMR_STATUS, TMR_ST_EXPIRED);
     unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);

@@ -5,6 +5,7 @@
  * step rate (stepper.h) -> outputs.  What looks at the result is the
  * supervision (supervise.c) in the main loop.
  */
+#include "inline.h"
 #include "fw.h"
 #include "hal.h"
 #include "mul16.h"
@@ -15,7 +16,7 @@
 
 /* The STP's position counter (steps, or encoder increments with BR closed)
  * as the INC's, converted to steps. */
-static inline __attribute__((always_inline)) void stp_tick_measure(unsigned n)
+FW_INLINE void stp_tick_measure(unsigned n)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
@@ -30,7 +31,7 @@ static inline __attribute__((always_inline)) void stp_tick_measure(unsigned n)
  * next_segment), split into 32-bit parts, which the tick interpolates in
  * Q16 for the step rate, or hold at the end of the last one; 1 if late.
  * No 64-bit arithmetic here. */
-static inline __attribute__((always_inline)) int stp_take_segment(unsigned n)
+FW_INLINE int stp_take_segment(unsigned n)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
@@ -55,7 +56,7 @@ static inline __attribute__((always_inline)) int stp_take_segment(unsigned n)
 
 /* One axis of the STP tick after its measurement: the setpoint, the step
  * rate (stepper.h), the outputs. */
-static inline __attribute__((always_inline)) void stp_tick_axis(unsigned n, unsigned phase)
+FW_INLINE void stp_tick_axis(unsigned n, unsigned phase)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);

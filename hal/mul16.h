@@ -8,6 +8,7 @@
 #ifndef MUL16_H
 #define MUL16_H
 #include <stdint.h>
+#include "inline.h"
 
 static inline uint32_t mulu16(uint16_t a, uint16_t b)
 {
@@ -45,7 +46,7 @@ static inline uint32_t divu16(uint32_t n, uint16_t d)
 
 /* a * b, for a, b < 2^31, as two 32-bit words from MULU.W: one when both
  * factors fit 16 bits, two when a does. */
-static inline __attribute__((always_inline)) void mulu31(uint32_t a, uint32_t b, uint32_t *hi, uint32_t *lo)
+FW_INLINE void mulu31(uint32_t a, uint32_t b, uint32_t *hi, uint32_t *lo)
 {
     uint16_t al = (uint16_t)a, bl = (uint16_t)b, bh = (uint16_t)(b >> 16);
     uint32_t ll = mulu16(al, bl);
