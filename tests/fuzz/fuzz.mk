@@ -138,7 +138,7 @@ fuzz-tools: deps
 	@command -v $(FUZZ_CLANG) >/dev/null || { echo "make fuzz needs clang: tools/bootstrap.sh installs it" >&2; exit 1; }
 
 fuzz: fuzz-tools $(foreach t,$(FUZZ_TARGETS),$(foreach c,$(FUZZ_CARDS),$(B)/fuzz/fuzz-$(t)-$(c))) \
-      $(foreach t,$(FUZZ_EMU_TARGETS),$(B)/fuzz/fuzz-$(t)) images
+      $(foreach t,$(FUZZ_EMU_TARGETS),$(B)/fuzz/fuzz-$(t)) images $(B)/commands.json
 	@mkdir -p $(B)/fuzz; : > $(B)/fuzz/summary.txt
 	@set -e; for t in $(FUZZ_TARGETS); do for c in $(FUZZ_CARDS); do \
 		tests/fuzz/run.sh $(B) $$t $$c $(FUZZ_SECONDS) $(FUZZ_JOBS) | tee -a $(B)/fuzz/summary.txt; \

@@ -54,6 +54,8 @@ def dictionary():
     global _dictionary, _dict_text
     if _dictionary is None:
         path = os.path.join(BUILD, "commands.json")
+        if not os.path.isfile(path):
+            sys.exit("fuzz_host.py: %s is missing (make %s)" % (path, os.path.relpath(path, ROOT)))
         _dict_text = open(path, "rb").read()
         _dictionary = mac4host.load_dictionary(path)
     return _dictionary
