@@ -257,7 +257,7 @@ static cyc_t m68k_cpu_execute(sim_t *s, cyc_t max)
     if (max > 0x7FFFFFF)
         max = 0x7FFFFFF;
     if (mac4_gdb_on)
-        gdbstub_slice_start(s);   /* Ctrl-C, or a stop asked for between slices */
+        gdbstub_slice_start(s, (long long)max);   /* Ctrl-C, or a stop asked for between slices */
     in_slice = 1;
     slice_done = 0;
     for (;;) {
@@ -270,11 +270,14 @@ static cyc_t m68k_cpu_execute(sim_t *s, cyc_t max)
             break;
         }
         /* gdb stopped the CPU before an instruction: time stands still
-         * while it is served, then the same slice goes on */
-        gdbstub_serve_stop(s);
+         * while it is served, then the same slice goes on.  Even when the
+         * slice's cycles are used up: a stop before the loop's first
+         * instruction, after an interrupt taken at m68k_execute's entry
+         * that used them all, must not end the slice there, as the 68000
+         * (Musashi's do-while) runs that instruction in this slice before
+         * the lines are sampled again.  A budget <= 0 runs just it. */
         slice_done += (cyc_t)ran;
-        if (slice_done >= max)
-            break;
+        gdbstub_serve_stop(s, (long long)max - (long long)slice_done);
         gdbstub_resume_in_slice();
     }
     in_slice = 0;

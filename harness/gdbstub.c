@@ -57,6 +57,8 @@ static int hide_irq;                /* resumed slice: the lines come back at the
 static unsigned saved_level, saved_nmi;
 static cyc_t next_poll;             /* emulated time of the next Ctrl-C poll while running */
 static double stopped_wall;         /* wall seconds spent stopped */
+static long long slice_left = -(1LL << 62); /* cycles the scheduler slice had left at the stop
+                                             * (monitor slice); no slice yet at attach */
 
 /* breakpoints: one bit per even address of the 24-bit space */
 static uint8_t bp_map[(1u << 24) / 2 / 8];
@@ -375,8 +377,14 @@ static void monitor(const char *hexcmd)
     if (!strcmp(cmd, "time")) {
         cyc_t now = sim_now(gs);
         snprintf(text, sizeof text, "time %.6f ms cycles %llu\n", (double)now / 16000.0, (unsigned long long)now);
+    } else if (!strcmp(cmd, "slice")) {
+        if (slice_left == -(1LL << 62))
+            snprintf(text, sizeof text, "no slice yet\n");
+        else
+            snprintf(text, sizeof text, "slice-left %lld\n", slice_left);
     } else {
-        snprintf(text, sizeof text, "monitor commands: time (emulated time and 68000 cycles)\n");
+        snprintf(text, sizeof text, "monitor commands: time (emulated time and 68000 cycles), "
+                 "slice (cycles left in the scheduler slice; <= 0: the next instruction still runs in it)\n");
     }
     char out[2 + 2 * sizeof text];
     out[0] = 'O';
@@ -614,9 +622,10 @@ static void stop_and_serve(void)
 }
 
 /* ---- hooks of cpu_m68k.c ------------------------------------------------- */
-void gdbstub_slice_start(sim_t *s)
+void gdbstub_slice_start(sim_t *s, long long budget)
 {
     (void)s;
+    slice_left = budget;
     if (cfd < 0) {
         mac4_gdb_on = 0;            /* detached between slices */
         return;
@@ -646,9 +655,10 @@ int gdbstub_stopped_in_slice(void)
     return b;
 }
 
-void gdbstub_serve_stop(sim_t *s)
+void gdbstub_serve_stop(sim_t *s, long long left)
 {
     (void)s;
+    slice_left = left;
     stop_and_serve();
 }
 

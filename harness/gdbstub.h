@@ -22,9 +22,9 @@ int mac4_gdb_instr(unsigned pc);
 int gdbstub_attach(sim_t *s, int port);
 
 /* cpu_m68k.c, around m68k_execute: */
-void gdbstub_slice_start(sim_t *s);   /* Ctrl-C and stops between slices */
+void gdbstub_slice_start(sim_t *s, long long budget);   /* Ctrl-C and stops between slices */
 int gdbstub_stopped_in_slice(void);   /* the last m68k_execute ended at a stop */
-void gdbstub_serve_stop(sim_t *s);    /* serve gdb until it resumes the CPU */
+void gdbstub_serve_stop(sim_t *s, long long left);  /* serve gdb until it resumes the CPU */
 void gdbstub_resume_in_slice(void);   /* before m68k_execute goes on with the same slice */
 /* CPU data accesses, for watchpoints (only while watchpoints are set) */
 extern int mac4_gdb_watching;
