@@ -7,94 +7,157 @@
 #include "profile.h"
 #include "servo.h"
 
+/* One object per axis, in parts.  Each part says who writes it and when;
+ * "masked" is with interrupts masked (hal_irq_save), which every main-loop
+ * writer of a part the tick reads holds.  A part with two writers is a
+ * hand-over between them, and says which side writes what. */
 typedef struct {
-    uint32_t ustat;     /* user status, manual 7.1.1 (RBS); bits 0-7 = mode */
-    uint32_t sstat;     /* system status, manual 7.1.2 (RSS) */
-    uint8_t mode;       /* mode in force (M_*) */
-    uint8_t next_mode;  /* mode selected for the next E, or NO_MODE */
-    uint16_t err_report;/* error code to give as the answer to the next command, 0 none */
-    uint16_t ctrl;      /* shadow of AX_CTRL */
-    int16_t out;        /* DAC word (INC/SSI) or step rate (STP) */
-    uint16_t in;        /* last switch inputs, AX_IN */
-    /* position measurement */
-    int32_t pos;        /* actual position: measured + <ao> (RCP) */
-    int32_t meas;       /* measured position without offset */
-    uint32_t raw;       /* last raw value read (RED) */
-    uint32_t counter;   /* last processed counter content (RCT) */
-    int32_t vel;        /* actual velocity per servo period (RAV) */
-    int32_t setpoint;
-    int32_t ferr;
-    int32_t zp_value;   /* last WZP value, read back by RZP */
-    /* profile generator (motion.c), measurement frame, Q16 */
+    /* status (7.1): the stages set and clear their own bits through
+     * axis.c (axis_set_mode, axis_error) and the commands (cmd*.c); the
+     * supervision (supervise.c, motion_supervise.c) its switch and fault
+     * bits, masked */
+    struct {
+        uint32_t ustat;     /* user status, manual 7.1.1 (RBS); bits 0-7 = mode */
+        uint32_t sstat;     /* system status, manual 7.1.2 (RSS) */
+        uint16_t err_report;/* error code to give as the answer to the next command, 0 none */
+    };
+    /* axis state: axis.c alone writes the mode (axis_set_mode); next_mode is
+     * the commands' (cmd_general.c), cleared by a stop or a disable */
+    struct {
+        uint8_t mode;       /* mode in force (M_*) */
+        uint8_t next_mode;  /* mode selected for the next E, or NO_MODE */
+    };
+    /* outputs: the shadow of AX_CTRL is written with every write of the
+     * register (axis.c, tick.h axis_output_at, the level 5 handler, the STP's
+     * stp_rate.c), masked or in an interrupt; `out` by the tick alone */
+    struct {
+        uint16_t ctrl;      /* shadow of AX_CTRL */
+        int16_t out;        /* DAC word (INC/SSI) or step rate (STP) */
+    };
+    /* position measurement: the tick writes meas, raw and counter (measure.h,
+     * stepper.c's increment conversion); the supervision after it the rest
+     * (supervise.c: vel, meas_sup, mk_tick, RED's raw on the counter path);
+     * pos is the main loop's (axis_set_pos); a compensation table
+     * (ext_comp.c) moves meas, meas_sup and pos together, masked */
+    struct {
+        int32_t pos;        /* actual position: measured + <ao> (RCP) */
+        int32_t meas;       /* measured position without offset */
+        uint32_t raw;       /* last raw value read (RED) */
+        uint32_t counter;   /* last processed counter content (RCT) */
+        int32_t vel;        /* actual velocity per servo period (RAV) */
+        int32_t meas_sup;   /* meas at the last supervision: RAV of the counter path */
+        uint8_t mk_tick;    /* what the tick measures: mk once initialised, else MK_NONE (card_supervise) */
+    };
+    /* the setpoint and following error the tick used: the supervision's on
+     * the INC/SSI (supervise.c tick_result), the tick's on the STP
+     * (tick_stp.c, stepper.h) */
+    struct {
+        int32_t setpoint;
+        int32_t ferr;
+    };
+    int32_t zp_value;       /* last WZP value, read back by RZP (cmd_param.c) */
+    /* profile generator (motion*.c, main loop, masked), measurement frame, Q16 */
     prof_t prof;
-    /* the next SP's segment, prepared by the main loop and split as the
-     * tick uses it: start, step per tick and end, integer + Q16 fraction */
-    int32_t nx_start_i, nx_st_i, nx_end_i;
-    uint16_t nx_start_f, nx_st_f, nx_end_f;
-    volatile uint8_t nx_ready;
-    /* INC/SSI: the setpoints of an SP, one per tick, rounded, as the main
-     * loop computes them from the segment: the row the tick uses and the
-     * next one (the tick swaps them at the SP boundary) */
-    int32_t sp_rows[2][PROFILE_DIVIDER];
-    int32_t *sp_now, *sp_next;
-    int32_t sp_vel, sp_vel_next;    /* the rows' velocity, Q16 per SP */
-    /* INC/SSI: a stop that cannot wait for the profile generator's next SP
-     * (protective reactions, stop bits): the tick brakes by itself, from the
-     * setpoint and speed of the moment, with <ed> (or <pd>) per tick^2 */
-    int64_t br_posh;                /* setpoint, Q16, plus one half: bits 16-47 the rounded setpoint */
-    int32_t br_v, br_dec;           /* Q16 per tick (0 once the ramp has ended), per tick^2 (>= 1) */
-    int32_t br_ssf;                 /* STP: <ssf> per tick, Q16: from there it stops at once */
-    volatile uint8_t braking;
-    int64_t target;     /* positioning target */
-    int32_t edge;       /* justification: position of the edge / index found */
-    uint8_t phase;      /* phase of a justification mode */
-    uint8_t done;       /* the move of the current mode is complete */
-    uint8_t stop_then;  /* protective stop in progress: STOP_* */
-    /* INC/SSI: a stop that ends only with the mechanics at rest under
-     * closed-loop control (motion_supervise.c, stop_watch), with its runaway guards */
-    uint8_t stop_settle;    /* wait for the mechanics at rest before STOP_DISABLE/DEINIT */
-    uint8_t stop_rest;      /* supervised ticks in a row with |RAV| <= STOP_REST_VEL */
-    uint16_t stop_ticks;    /* supervised ticks since the stop began */
-    uint16_t stop_limit;    /* time bound in ticks, set when the setpoint ramp ends */
-    int32_t stop_fmax;      /* |following error| beyond this: the loop runs away */
-    int32_t stop_f0;        /* |following error| at the start of the stop */
-    int32_t stop_flast;     /* ... at the last supervision */
-    int32_t stop_vlast;     /* |RAV| at the last supervision */
-    uint8_t stop_grow;      /* supervised ticks in a row it grew beyond stop_f0, the speed not falling */
-    uint8_t stop_ferr;      /* the stop is the reaction to a following error: a guard that ends
-                             * it raises nothing more (the error was raised once, C may have come) */
-    uint8_t idx_seen;   /* index latched during a search */
-    uint16_t trt_count;
-    uint16_t trt_periods;
+    /* the hand-over of the next SP from the profile generator to the tick:
+     * motion_profile.c writes the segment (nx_*) and the next row, then sets
+     * nx_ready, masked; the tick takes them at the SP boundary and clears
+     * nx_ready (tick_servo.c take_row, tick_stp.c stp_take_segment);
+     * motion_hold / brake_done (motion.c) start both sides again */
+    struct {
+        /* the next SP's segment split as the tick uses it: start, step per
+         * tick and end, integer + Q16 fraction */
+        int32_t nx_start_i, nx_st_i, nx_end_i;
+        uint16_t nx_start_f, nx_st_f, nx_end_f;
+        volatile uint8_t nx_ready;
+        /* INC/SSI: the setpoints of an SP, one per tick, rounded: the row the
+         * tick uses and the next one (the tick swaps them) */
+        int32_t sp_rows[2][PROFILE_DIVIDER];
+        int32_t *sp_now, *sp_next;
+        int32_t sp_vel, sp_vel_next;    /* the rows' velocity, Q16 per SP */
+    };
+    /* STP: the setpoint the tick interpolates in the segment it took: the
+     * tick's (tick_stp.c, stp_rate.c's creep and trim), set again by
+     * motion.c's hold and brake_done, masked */
+    struct {
+        int32_t sp_i;       /* setpoint, integer part */
+        uint16_t sp_f;      /* and Q16 fraction */
+        uint16_t st_f;      /* the segment's step per tick, split the same way */
+        int32_t st_i;
+        int32_t start_i, end_i;   /* and its ends */
+        uint16_t start_f, end_f;
+    };
+    /* the tick's own brake, for a stop that cannot wait for the profile
+     * generator's next SP (protective reactions, stop bits): motion.c sets it
+     * up (brake_now, masked) and ends it (brake_done); the tick steps br_v
+     * and br_posh (tick.h brake_step) from the setpoint and speed of the
+     * moment, with <ed> (or <pd>) per tick^2 */
+    struct {
+        int64_t br_posh;                /* setpoint, Q16, plus one half: bits 16-47 the rounded setpoint */
+        int32_t br_v, br_dec;           /* Q16 per tick (0 once the ramp has ended), per tick^2 (>= 1) */
+        int32_t br_ssf;                 /* STP: <ssf> per tick, Q16: from there it stops at once */
+        volatile uint8_t braking;
+    };
+    /* the mode's motion: the motion files' (motion*.c, main loop; stepper.c
+     * the STP's creep phase), masked where the tick reads them */
+    struct {
+        int64_t target;     /* positioning target */
+        int32_t edge;       /* justification: position of the edge / index found */
+        uint8_t phase;      /* phase of a justification mode */
+        uint8_t done;       /* the move of the current mode is complete */
+        uint8_t idx_seen;   /* index latched during a search */
+        uint16_t trt_count;
+        uint16_t trt_periods;
+    };
+    /* a protective stop: motion.c begins it (motion_emergency), the
+     * supervision watches and ends it (motion_supervise.c stop_watch,
+     * stop_done); axis.c clears it at a disable.  INC/SSI: a stop that ends
+     * only with the mechanics at rest under closed-loop control, with its
+     * runaway guards */
+    struct {
+        uint8_t stop_then;  /* protective stop in progress: STOP_* */
+        uint8_t stop_settle;    /* wait for the mechanics at rest before STOP_DISABLE/DEINIT */
+        uint8_t stop_rest;      /* supervised ticks in a row with |RAV| <= STOP_REST_VEL */
+        uint16_t stop_ticks;    /* supervised ticks since the stop began */
+        uint16_t stop_limit;    /* time bound in ticks, set when the setpoint ramp ends (brake_done) */
+        int32_t stop_fmax;      /* |following error| beyond this: the loop runs away */
+        int32_t stop_f0;        /* |following error| at the start of the stop */
+        int32_t stop_flast;     /* ... at the last supervision */
+        int32_t stop_vlast;     /* |RAV| at the last supervision */
+        uint8_t stop_grow;      /* supervised ticks in a row it grew beyond stop_f0, the speed not falling */
+        uint8_t stop_ferr;      /* the stop is the reaction to a following error: a guard that ends
+                                 * it raises nothing more (the error was raised once, C may have come) */
+    };
     /* the profile generator's Q16 velocities per SP of the common modes
      * (vq() of <pv>, <pa>, <pd>, <ed>), recomputed only when par_a or TURBO
-     * changed; q_free: prof_free_distance(<pv>, <pd>) */
-    int64_t q_pv, q_pa, q_pd, q_ed, q_free;
-    int64_t q_hi, q_lo; /* target -/+ max(q_free, q_pv) when <pv> and <pa> fit 32 bits (prof_cruise32) */
-    uint8_t q_fast;     /* ... and then prof_cruise32 applies */
-    uint8_t q_fit;      /* <pv>, <pa>, <pd> below 2^30: prof_step32 with q_l32 */
-    prof_lim32_t q_l32;
-    uint16_t q_gen;
-    uint8_t q_turbo;
-    /* position controller (servo.c) */
+     * changed; q_free: prof_free_distance(<pv>, <pd>).  motion.c's alone
+     * (vq_compute), main loop */
+    struct {
+        int64_t q_pv, q_pa, q_pd, q_ed, q_free;
+        int64_t q_hi, q_lo; /* target -/+ max(q_free, q_pv) when <pv> and <pa> fit 32 bits (prof_cruise32) */
+        uint8_t q_fast;     /* ... and then prof_cruise32 applies */
+        uint8_t q_fit;      /* <pv>, <pa>, <pd> below 2^30: prof_step32 with q_l32 */
+        prof_lim32_t q_l32;
+        uint16_t q_gen;
+        uint8_t q_turbo;
+    };
+    /* position controller (servo.c): the gains axis.c's alone
+     * (axis_set_gains, at E masked), the filter's state the tick's
+     * (servo_reset at E) */
     servo_gains_t gains;
     servo_state_t servo;
-    /* the tick's copy of what it needs from the parameters, prepared in the
-     * main loop at INIT and E (axis_prepare) so the tick never looks up */
-    int32_t sp_i;       /* setpoint, integer part */
-    uint16_t sp_f;      /* and Q16 fraction */
-    uint16_t st_f;      /* the segment's step per tick, split the same way */
-    int32_t st_i;
-    int32_t start_i, end_i;   /* and its ends */
-    uint16_t start_f, end_f;
-    uint8_t mk;         /* measurement kind, MK_* */
-    uint8_t mk_tick;    /* what the tick measures: mk once initialised, else MK_NONE (card_supervise) */
-    int32_t meas_sup;   /* meas at the last supervision: RAV of the counter path */
-    uint8_t linear;     /* <sh> == 1 */
-    int32_t cr, lp, ln, mf;
-    uint8_t in_eval;    /* evaluate the inputs at the next tick even if unchanged */
-    uint16_t sw_en;     /* AX_IN bits of the switches that are configured */
-    uint16_t sw_inv;    /* ... and those that are high active */
+    /* the tick's and the supervision's copies of parameters, prepared by
+     * axis.c (axis_prepare, axis_prepare_mode) at INIT and E so that neither
+     * looks one up; a compensation table (ext_comp.c) switches mk; in_eval
+     * is cleared by the supervision once it has looked at the inputs */
+    struct {
+        uint8_t mk;         /* measurement kind, MK_* */
+        uint8_t linear;     /* <sh> == 1 */
+        int32_t cr, lp, ln, mf;
+        uint8_t in_eval;    /* evaluate the inputs at the next tick even if unchanged */
+        uint16_t sw_en;     /* AX_IN bits of the switches that are configured */
+        uint16_t sw_inv;    /* ... and those that are high active */
+    };
+    uint16_t in;            /* last switch inputs, AX_IN (supervise.c) */
 } axis_t;
 
 #define MK_COUNTER 0    /* internal 24-bit counter: the fast path */
