@@ -234,9 +234,9 @@ system: all
 # ---- native/68000 agreement, cycle deadlines, benchmark (docs/performance.md) ----
 differential: all native
 	$(PYTHON) -m pytest -q tests/differential
-timing: all $(B)/busvectors
+timing: all $(B)/busvectors floor
 	$(PYTHON) -m pytest -q tests/timing
-bench: all $(B)/mac4bare $(B)/mac4bare-stock
+bench: all $(B)/mac4bare $(B)/mac4bare-stock floor
 	$(PYTHON) tools/bench.py
 
 # ---- bus timing: the wait-state model against the 68000 reference vectors ----
@@ -287,6 +287,9 @@ docs-check: $(B)/commands.json
 
 # ---- the 68000 core against the reference vectors (docs/cpu-timing.md) -----
 include tests/conformance/conformance.mk
+
+# ---- the floor routines of make bench, never in the firmware (bench/floor/README.md)
+include bench/floor/floor.mk
 
 # ---- the workbench (docs/debugging.md) -------------------------------------
 # The images carry -g debug information in their ELF for gdb; the EPROM bytes

@@ -1,0 +1,126 @@
+/*
+ * floor.h - the memory of the floor routines (bench/floor/README.md): where
+ * build/floor/floorrun-CARD puts a routine's inputs and finds its outputs,
+ * and the offsets the routines address them by.  Included by the routines
+ * (.S, through cpp) and by the runner (C); never by the firmware.
+ *
+ * The map is the card's (hal/mac4_map.h): a routine runs from the EPROM
+ * (1 wait state per fetch), its data in the SRAM (0), the vector of level 6
+ * in the DPRAM (1), the axis registers on the axis board (3), the encoders
+ * on the VMEbus (12): the firmware's regions, under the same bus model.
+ * The layout inside the SRAM is the routines' own: each axis one record,
+ * the fields the tick reads and writes, a 16-bit displacement apart.  The
+ * values in it are the firmware's (card.h axis_t, servo.h servo_gains_t and
+ * servo_state_t, measure.h meas_cfg_t); the few a routine takes derived
+ * beyond what the firmware derives are marked "floor" and computed by the
+ * runner where the firmware's main loop would (once per E or INIT).
+ */
+#ifndef FLOOR_H
+#define FLOOR_H
+#include "mac4_map.h"
+
+#define FLOOR_CODE      EPROM_BASE                  /* the routine, entered from the vector */
+#define FLOOR_IDLE      (EPROM_BASE + 0xFF00)       /* bra.s * : where the CPU waits for the interrupt */
+#define FLOOR_CARD      (SRAM_BASE + 0x0100)        /* the card's words (CD_*) */
+#define FLOOR_AX0       (SRAM_BASE + 0x0200)        /* axis n at FLOOR_AX0 + n * FLOOR_AX_SIZE */
+#define FLOOR_AX_SIZE   0x100
+#define FLOOR_AX(n)     (FLOOR_AX0 + (n) * FLOOR_AX_SIZE)
+#define FLOOR_STACK_TOP (SRAM_BASE + SRAM_SIZE)     /* the supervisor stack, as the firmware's */
+
+/* ---- the card (FLOOR_CARD + ...) ---------------------------------------- */
+#define CD_TICKS        0x00    /* l  card_ticks */
+#define CD_LATE         0x04    /* w  card_profile_late */
+#define CD_DUE          0x06    /* b  card_profile_due */
+#define CD_GENERAL      0x07    /* b  card_servo_general */
+
+/* ---- an INC/SSI axis (FLOOR_AX(n) + ...) ---------------------------------- */
+#define SV_USTAT        0x00    /* l  ustat */
+#define SV_MK           0x04    /* b  mk_tick */
+#define SV_MODE         0x05    /* b  mode */
+#define SV_BRAKING      0x06    /* b  braking */
+#define SV_NXREADY      0x07    /* b  nx_ready */
+#define SV_LINEAR       0x08    /* b  linear */
+#define SV_FULL         0x09    /* b  gains.full */
+#define SV_KISC         0x0A    /* b  gains.kisc */
+#define SV_SC           0x0B    /* b  meas_cfg.sc */
+#define SV_OUT          0x0C    /* w  out */
+#define SV_DA           0x0E    /* w  PAR(n, DA) (test mode, 5.13) */
+#define SV_RAW          0x10    /* l  raw        (raw .. pos in this order: MOVEM) */
+#define SV_COUNTER      0x14    /* l  counter */
+#define SV_MEAS         0x18    /* l  meas */
+#define SV_POS          0x1C    /* l  pos */
+#define SV_CR           0x20    /* l  cr */
+#define SV_SPNOW        0x24    /* l  sp_now (an address of SV_ROWS) */
+#define SV_SPNEXT       0x28    /* l  sp_next */
+#define SV_SPVEL        0x2C    /* l  sp_vel */
+#define SV_SPVELNX      0x30    /* l  sp_vel_next */
+#define SV_BRPOSH       0x34    /* 8  br_posh, int64 big-endian (bits 16-47 at +2) */
+#define SV_BRV          0x3C    /* l  br_v */
+#define SV_BRDEC        0x40    /* l  br_dec */
+/* servo_gains_t */
+#define SV_GA           0x44    /* w  ga */
+#define SV_ZE           0x46    /* w  ze */
+#define SV_PO           0x48    /* w  po */
+#define SV_KI           0x4A    /* w  ki */
+#define SV_GZH          0x4C    /* w  gzh */
+#define SV_GZL          0x4E    /* w  gzl */
+#define SV_KIMASK       0x50    /* w  ki_mask */
+#define SV_OUTHI        0x52    /* w  out_hi */
+#define SV_OUTLO        0x54    /* w  out_lo */
+#define SV_ELIM         0x56    /* w  e_lim */
+#define SV_U2HI         0x58    /* l  u2_hi */
+#define SV_U2LO         0x5C    /* l  u2_lo */
+#define SV_ELIML        0x60    /* l  floor: e_lim as a long */
+#define SV_ELIM2        0x64    /* l  floor: 2 e_lim */
+/* servo_state_t */
+#define SV_U1           0x68    /* l  u1 */
+#define SV_U2           0x6C    /* l  u2 */
+#define SV_U2RES        0x70    /* l  u2_res */
+#define SV_EPREV        0x74    /* w  e_prev */
+/* the rest of axis_t the encoder error touches (measure_encoder_error) */
+#define SV_CTRL         0x76    /* w  ctrl */
+#define SV_ERR          0x78    /* w  err_report */
+#define SV_STOPTHEN     0x7A    /* b  stop_then */
+#define SV_STOPSETTLE   0x7B    /* b  stop_settle */
+#define SV_NEXTMODE     0x7C    /* b  next_mode */
+/* meas_cfg_t */
+#define SV_PATH         0x7D    /* b  path */
+#define SV_ABS          0x7E    /* b  abs */
+#define SV_FAILED       0x7F    /* b  failed */
+#define SV_MASK         0x80    /* l  mask */
+#define SV_LIM          0x84    /* l  lim */
+#define SV_RANGE        0x88    /* l  range */
+#define SV_HALF         0x8C    /* l  half */
+#define SV_SIGN         0x90    /* l  sign */
+#define SV_EADDR        0x94    /* l  addr: the window address of the MSW */
+#define SV_PAGE         0x98    /* w  page */
+#define SV_DKIND        0x9A    /* b  floor: measure_delta's case, from abs and linear
+                                 *    (INIT): 0 absolute linear, 1 absolute circular,
+                                 *    2 relative */
+#define SV_OUTLOL       0x9C    /* l  floor: out_lo as a long (the gains) */
+#define SV_ROWS         0xA0    /* 32 sp_rows[2][PROFILE_DIVIDER] */
+#define SV_OUTSPAN      0xC0    /* l  floor: out_hi - out_lo (the gains) */
+#define SV_END          0xC4
+
+/* ---- the firmware's constants the routines need, as numbers (the C
+ * runner asserts each against its definition: ref_servo.c) ------------- */
+#define FL_M_DISABLE    0       /* status.def MODE(DISABLE) */
+#define FL_M_TEST       10
+#define FL_MK_COUNTER   0       /* card.h MK_* */
+#define FL_MK_OTHER     1
+#define FL_MK_NONE      2
+#define FL_MK_SSI       3
+#define FL_MK_SSI_ABS   4
+#define FL_EXT_VME32    3       /* measure.h EXT_* */
+#define FL_NO_MODE      0xFF
+#define FL_US_DR_EN     8       /* status.def USTAT bit numbers */
+#define FL_US_REV_O     9
+#define FL_US_LOGO_F    15
+#define FL_US_ENCODER_F 16
+#define FL_US_GRAY      27
+#define FL_ERR_LOGICAL  163     /* commands.def ERROR(163, LOGICAL) */
+#define FL_U1_MAX       0x7FFFFF    /* servo.h SERVO_U1_MAX */
+#define FL_OUT_MAX      2047
+#define FL_OUT_MIN      (-2048)
+
+#endif
