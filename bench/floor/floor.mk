@@ -5,7 +5,8 @@ FLOOR_DIR  := $(B)/floor
 FLOOR_ASM  := $(wildcard bench/floor/*.S)
 FLOOR_BINS := $(patsubst bench/floor/%.S,$(FLOOR_DIR)/%.bin,$(FLOOR_ASM))
 FLOOR_INC  := $(wildcard bench/floor/*.inc) bench/floor/floor.h hal/mac4_map.h
-FLOOR_RUNS := $(foreach c,$(CARDS),$(FLOOR_DIR)/floorrun-$(c))
+FLOOR_CARDS := inc ssi
+FLOOR_RUNS := $(foreach c,$(FLOOR_CARDS),$(FLOOR_DIR)/floorrun-$(c))
 
 .PHONY: floor
 floor: $(FLOOR_BINS) $(FLOOR_RUNS)
@@ -33,4 +34,4 @@ $(FLOOR_DIR)/floorrun-$(1): bench/floor/floorrun.c bench/floor/floorrun.h $$(FLO
 	$$(HOSTCC) $$(FLOOR_CFLAGS) -DMAC4_CARD=$(card_$(1)) bench/floor/floorrun.c $$(FLOOR_REF_$(1)) \
 		harness/buswait.c $(MUSOBJ) -lm -o $$@
 endef
-$(foreach c,$(CARDS),$(eval $(call FLOOR_RUN_RULE,$(c))))
+$(foreach c,$(FLOOR_CARDS),$(eval $(call FLOOR_RUN_RULE,$(c))))
