@@ -440,9 +440,6 @@ static void gen_axis(unsigned n, int scen)
     /* the tick's own brake: speed Q16 per tick, deceleration per tick^2 */
     x->br_v = broad ? (rnd_pct(10) ? (int32_t)rnd() : rnd_range(-(30 << 16), 30 << 16)) : 25 << 16;
     x->br_dec = broad ? (rnd_pct(20) ? rnd_range(1, INT32_MAX) : rnd_range(1, 1 << 16)) : 1000;
-    x->br_posh = ((int64_t)x->meas << 16) + BR_HALF + (broad ? (int64_t)(int32_t)rnd() : 12345);
-    if (broad && rnd_pct(10))
-        x->br_posh = (int64_t)((uint64_t)rnd() << 32 | rnd());
     /* the measurement */
     int mine = broad ? rnd_pct(85) : 1;
     switch (routine_kind) {
@@ -552,6 +549,10 @@ static void gen_axis(unsigned n, int scen)
         break;
     }
     }
+    /* the brake's setpoint near the position the measurement leaves */
+    x->br_posh = ((int64_t)x->meas << 16) + BR_HALF + (broad ? (int64_t)(int32_t)rnd() : 12345 << 4);
+    if (broad && rnd_pct(10))
+        x->br_posh = (int64_t)((uint64_t)rnd() << 32 | rnd());
 }
 
 /* Aim an axis of the counter routines at a bound: the setpoint at the
