@@ -31,7 +31,8 @@
 #define CD_TICKS        0x00    /* l  card_ticks */
 #define CD_LATE         0x04    /* w  card_profile_late */
 #define CD_DUE          0x06    /* b  card_profile_due */
-#define CD_GENERAL      0x07    /* b  card_servo_general */
+#define CD_GENERAL      0x07    /* b  card_servo_general (INC/SSI) */
+#define CD_STPCONV      0x08    /* b  stp_conv (STP): bit n, axis n counts increments */
 
 /* ---- an INC/SSI axis (FLOOR_AX(n) + ...) ---------------------------------- */
 #define SV_USTAT        0x00    /* l  ustat */
@@ -102,6 +103,73 @@
 #define SV_OUTSPAN      0xC0    /* l  floor: out_hi - out_lo (the gains) */
 #define SV_END          0xC4
 
+/* ---- a MAC4-STP axis (FLOOR_AX(n) + ...): axis_t and its stp_t ---------- */
+#define ST_USTAT        0x00    /* l  ustat */
+#define ST_MK           0x04    /* b  mk_tick */
+#define ST_MODE         0x05    /* b  mode */
+#define ST_BRAKING      0x06    /* b  braking */
+#define ST_NXREADY      0x07    /* b  nx_ready */
+#define ST_LINEAR       0x08    /* b  linear */
+#define ST_DIR          0x09    /* b  stp dir (-1, 0, 1) */
+#define ST_CREEP        0x0A    /* b  stp creep */
+#define ST_ACTIVE       0x0B    /* b  stp active */
+#define ST_CTRL         0x0C    /* w  ctrl */
+#define ST_OUT          0x0E    /* w  out */
+#define ST_RAW          0x10    /* l  raw        (raw .. pos in this order: MOVEM) */
+#define ST_COUNTER      0x14    /* l  counter */
+#define ST_MEAS         0x18    /* l  meas */
+#define ST_POS          0x1C    /* l  pos */
+#define ST_SETPOINT     0x20    /* l  setpoint */
+#define ST_FERR         0x24    /* l  ferr */
+#define ST_SPI          0x28    /* l  sp_i */
+#define ST_SPF          0x2C    /* w  sp_f */
+#define ST_STARTI       0x30    /* l  start_i    (the segment in force: MOVEM order, */
+#define ST_STI          0x34    /* l  st_i        as the next one's) */
+#define ST_ENDI         0x38    /* l  end_i */
+#define ST_STARTF       0x3C    /* w  start_f */
+#define ST_STF          0x3E    /* w  st_f */
+#define ST_ENDF         0x40    /* w  end_f */
+#define ST_NXSTARTI     0x44    /* l  nx_start_i */
+#define ST_NXSTI        0x48    /* l  nx_st_i */
+#define ST_NXENDI       0x4C    /* l  nx_end_i */
+#define ST_NXSTARTF     0x50    /* w  nx_start_f */
+#define ST_NXSTF        0x52    /* w  nx_st_f */
+#define ST_NXENDF       0x54    /* w  nx_end_f */
+#define ST_BOOST        0x56    /* b  stp boost */
+#define ST_BOOSTEN      0x57    /* b  stp boost_en */
+#define ST_BRPOSH       0x58    /* 8  br_posh */
+#define ST_BRV          0x60    /* l  br_v */
+#define ST_BRDEC        0x64    /* l  br_dec */
+#define ST_BRSSF        0x68    /* l  br_ssf */
+#define ST_CR           0x6C    /* l  cr */
+#define ST_PROFVEL      0x70    /* 8  prof.vel */
+#define ST_INC          0x78    /* l  stp inc */
+#define ST_CONV         0x7C    /* l  stp conv */
+#define ST_RATIO        0xB8    /* l  stp ratio */
+#define ST_RATE         0x80    /* w  stp rate */
+#define ST_OBITS        0x82    /* w  stp obits */
+#define ST_CLOCKS       0x84    /* w  stp clocks */
+#define ST_LVRATE       0x86    /* w  stp lv_rate */
+#define ST_LIM          0x88    /* l  stp lim */
+#define ST_CARRY        0x8C    /* l  stp carry */
+#define ST_DA           0x90    /* l  PAR(n, DA): Hz in test mode (5.13) */
+#define ST_ERR          0x94    /* w  err_report */
+#define ST_STOPTHEN     0x96    /* b  stop_then */
+#define ST_STOPSETTLE   0x97    /* b  stop_settle */
+#define ST_NEXTMODE     0x98    /* b  next_mode */
+#define ST_PATH         0x99    /* b  meas_cfg: path */
+#define ST_ABS          0x9A    /* b  abs */
+#define ST_FAILED       0x9B    /* b  failed */
+#define ST_MASK         0x9C    /* l  mask */
+#define ST_MLIM         0xA0    /* l  lim */
+#define ST_RANGE        0xA4    /* l  range */
+#define ST_HALF         0xA8    /* l  half */
+#define ST_SIGN         0xAC    /* l  sign */
+#define ST_EADDR        0xB0    /* l  addr */
+#define ST_PAGE         0xB4    /* w  page */
+#define ST_DKIND        0xB6    /* b  floor: measure_delta's case (as SV_DKIND) */
+#define ST_END          0xBC
+
 /* ---- the firmware's constants the routines need, as numbers (the C
  * runner asserts each against its definition: ref_servo.c) ------------- */
 #define FL_M_DISABLE    0       /* status.def MODE(DISABLE) */
@@ -122,5 +190,10 @@
 #define FL_U1_MAX       0x7FFFFF    /* servo.h SERVO_U1_MAX */
 #define FL_OUT_MAX      2047
 #define FL_OUT_MIN      (-2048)
+#define FL_M_POSITIONING 8
+#define FL_CREEP_IDLE   0       /* stp_card.h CREEP_* */
+#define FL_CREEP_TRIM   5
+#define FL_TRIM_MAX     3       /* stp_rate.c TRIM_MAX */
+#define FL_STP_OBITS    (AX_CTRL_DIR + AX_CTRL_BOOST + AX_CTRL_TURBO)   /* stepper.h STP_OBITS */
 
 #endif

@@ -5,7 +5,7 @@ FLOOR_DIR  := $(B)/floor
 FLOOR_ASM  := $(wildcard bench/floor/*.S)
 FLOOR_BINS := $(patsubst bench/floor/%.S,$(FLOOR_DIR)/%.bin,$(FLOOR_ASM))
 FLOOR_INC  := $(wildcard bench/floor/*.inc) bench/floor/floor.h hal/mac4_map.h
-FLOOR_CARDS := inc ssi
+FLOOR_CARDS := inc ssi stp
 FLOOR_RUNS := $(foreach c,$(FLOOR_CARDS),$(FLOOR_DIR)/floorrun-$(c))
 
 .PHONY: floor
@@ -25,7 +25,7 @@ $(FLOOR_DIR)/%.bin: $(FLOOR_DIR)/%.o
 # firmware's C for the host that the routines are checked against
 FLOOR_REF_inc := bench/floor/ref_servo.c firmware/servo.c firmware/measure.c firmware/params.c
 FLOOR_REF_ssi := $(FLOOR_REF_inc)
-FLOOR_REF_stp := bench/floor/ref_stp.c firmware/measure.c firmware/params.c
+FLOOR_REF_stp := bench/floor/ref_stp.c firmware/stp_rate.c firmware/measure.c firmware/params.c
 FLOOR_CFLAGS := $(HOSTCFLAGS) -DHAL_NATIVE -Ibench/floor -Ihal -Ifirmware -Iharness -I$(MUS) -DMUSASHI_CNF='"musashi_cnf.h"'
 define FLOOR_RUN_RULE
 $(FLOOR_DIR)/floorrun-$(1): bench/floor/floorrun.c bench/floor/floorrun.h $$(FLOOR_REF_$(1)) harness/buswait.c \

@@ -448,8 +448,8 @@ static int one(const routine_t *r, const char *dir_bin, int scen, uint64_t *cycl
 }
 
 /* For compare(): the routine's results, and the inputs back in place. */
-uint8_t floor_out_io[0x2000], floor_out_sram[SRAM_SIZE];
-devstate_t floor_out_dev;
+static uint8_t floor_out_io[0x2000], floor_out_sram[SRAM_SIZE];
+static devstate_t floor_out_dev;
 void floor_restore_inputs(void)
 {
     memcpy(floor_out_io, fmem + IO_BASE, sizeof floor_out_io);
@@ -458,6 +458,54 @@ void floor_restore_inputs(void)
     memcpy(fmem + IO_BASE, io_before, sizeof io_before);
     memcpy(fmem + SRAM_BASE, sram_before, sizeof sram_before);
     dev = dev_before;
+}
+
+static const char *field_at(const field_t *fields, unsigned nfields, uint32_t a, unsigned *off)
+{
+    if (a >= FLOOR_AX0 && a < FLOOR_AX(MAC4_NAXES)) {
+        unsigned o = (a - FLOOR_AX0) % FLOOR_AX_SIZE;
+        for (unsigned i = 0; i < nfields; i++)
+            if (o >= fields[i].off && o < fields[i].off + fields[i].size) {
+                *off = fields[i].off;
+                return fields[i].name;
+            }
+        *off = o;
+        return "(no field)";
+    }
+    *off = 0;
+    return a >= FLOOR_CARD && a < FLOOR_CARD + 0x100 ? "card" : "(outside the records)";
+}
+
+int floor_compare(char *msg, size_t len, const field_t *fields, unsigned nfields)
+{
+    for (uint32_t a = SRAM_BASE; a < FLOOR_STACK_TOP - 0x200; a++)
+        if (fmem[a] != floor_out_sram[a - SRAM_BASE]) {
+            unsigned off;
+            const char *f = field_at(fields, nfields, a, &off);
+            int ax = a >= FLOOR_AX0 && a < FLOOR_AX(MAC4_NAXES) ? (int)((a - FLOOR_AX0) / FLOOR_AX_SIZE) : -1;
+            uint32_t base = ax >= 0 ? FLOOR_AX(ax) + off : a;
+            char fl[64] = "", rf[64] = "";
+            for (uint32_t b = base; b < base + 8 && b <= a + 3; b++) {
+                snprintf(fl + strlen(fl), sizeof fl - strlen(fl), "%02X", floor_out_sram[b - SRAM_BASE]);
+                snprintf(rf + strlen(rf), sizeof rf - strlen(rf), "%02X", fmem[b]);
+            }
+            snprintf(msg, len, "axis %d %s (byte $%06X): floor %s, firmware %s", ax, f, (unsigned)a, fl, rf);
+            return 1;
+        }
+    for (uint32_t o = 0; o < sizeof floor_out_io; o += 2) {
+        uint16_t fl = (uint16_t)(floor_out_io[o] << 8 | floor_out_io[o + 1]);
+        uint16_t rf = m_rd16(IO_BASE + o);
+        if (fl != rf) {
+            snprintf(msg, len, "register $%06X: floor $%04X, firmware $%04X", (unsigned)(IO_BASE + o), fl, rf);
+            return 1;
+        }
+    }
+    if (floor_out_dev.vme_berr != dev.vme_berr || floor_out_dev.vme_page != dev.vme_page) {
+        snprintf(msg, len, "VMEbus: floor page %u berr %u, firmware page %u berr %u", floor_out_dev.vme_page,
+                 floor_out_dev.vme_berr, dev.vme_page, dev.vme_berr);
+        return 1;
+    }
+    return 0;
 }
 
 static const routine_t *find_routine(const module_t *m, const char *name)

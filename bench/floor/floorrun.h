@@ -53,6 +53,19 @@ uint64_t floor_isr(uint32_t entry, char *err, size_t errlen);
  * count a function. */
 uint64_t floor_call(uint32_t entry, uint32_t a0, char *err, size_t errlen);
 
+/* ---- comparing ------------------------------------------------------------ */
+/* For a module's compare(): the routine's results are saved and the inputs
+ * put back (memory, registers, devices) for the firmware's C to run on. */
+void floor_restore_inputs(void);
+/* After the C ran and its state was written back the routine's way: the
+ * SRAM (but the stack), the I/O registers and the VMEbus state against the
+ * routine's.  fields names an axis record's bytes for the message. */
+typedef struct {
+    unsigned off, size;
+    const char *name;
+} field_t;
+int floor_compare(char *msg, size_t len, const field_t *fields, unsigned nfields);
+
 /* ---- random inputs ------------------------------------------------------- */
 uint32_t rnd(void);
 uint32_t rnd_below(uint32_t n);             /* 0 .. n-1 */

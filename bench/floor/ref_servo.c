@@ -277,7 +277,7 @@ static void pack(void)
 }
 
 /* names for the messages */
-static const struct { unsigned off, size; const char *name; } fields[] = {
+static const field_t fields[] = {
     {SV_USTAT, 4, "ustat"}, {SV_MK, 1, "mk_tick"}, {SV_MODE, 1, "mode"}, {SV_BRAKING, 1, "braking"},
     {SV_NXREADY, 1, "nx_ready"}, {SV_LINEAR, 1, "linear"}, {SV_FULL, 1, "gains.full"}, {SV_KISC, 1, "kisc"},
     {SV_SC, 1, "sc"}, {SV_OUT, 2, "out"}, {SV_DA, 2, "da"}, {SV_COUNTER, 4, "counter"}, {SV_MEAS, 4, "meas"},
@@ -294,26 +294,6 @@ static const struct { unsigned off, size; const char *name; } fields[] = {
     {SV_PAGE, 2, "page"}, {SV_DKIND, 1, "delta kind"}, {SV_OUTLOL, 4, "out_lo (long)"},
     {SV_ROWS, 32, "sp_rows"}, {SV_OUTSPAN, 4, "out_hi - out_lo"},
 };
-
-static const char *field_at(uint32_t a, unsigned *off)
-{
-    if (a >= FLOOR_AX0 && a < FLOOR_AX(MAC4_NAXES)) {
-        unsigned o = (a - FLOOR_AX0) % FLOOR_AX_SIZE;
-        for (unsigned i = 0; i < sizeof fields / sizeof fields[0]; i++)
-            if (o >= fields[i].off && o < fields[i].off + fields[i].size) {
-                *off = fields[i].off;
-                return fields[i].name;
-            }
-        *off = o;
-        return "(no field)";
-    }
-    *off = a - FLOOR_CARD;
-    return a >= FLOOR_CARD && a < FLOOR_CARD + 8 ? "card" : "(outside the records)";
-}
-
-extern uint8_t floor_out_io[0x2000], floor_out_sram[SRAM_SIZE];
-extern devstate_t floor_out_dev;
-void floor_restore_inputs(void);
 
 /* ---- inputs ------------------------------------------------------------------ */
 enum { R_COUNTER, R_SSI_ABS, R_SSI, R_EXT };
@@ -627,34 +607,7 @@ static int compare(char *msg, size_t len)
     floor_restore_inputs();
     fw_isr_tick_ref();
     pack();
-    for (uint32_t a = SRAM_BASE; a < FLOOR_STACK_TOP - 0x200; a++)
-        if (fmem[a] != floor_out_sram[a - SRAM_BASE]) {
-            unsigned off;
-            const char *f = field_at(a, &off);
-            uint32_t base = a - ((a - FLOOR_AX0) % FLOOR_AX_SIZE) + off;
-            int ax = a >= FLOOR_AX0 && a < FLOOR_AX(MAC4_NAXES) ? (int)((a - FLOOR_AX0) / FLOOR_AX_SIZE) : -1;
-            char fl[64] = "", rf[64] = "";
-            for (unsigned i = 0; i < 8 && ax >= 0 && base + i <= a + 3; i++) {
-                snprintf(fl + strlen(fl), sizeof fl - strlen(fl), "%02X", floor_out_sram[base + i - SRAM_BASE]);
-                snprintf(rf + strlen(rf), sizeof rf - strlen(rf), "%02X", fmem[base + i]);
-            }
-            snprintf(msg, len, "axis %d %s (byte $%06X): floor %s, firmware %s", ax, f, a, fl, rf);
-            return 1;
-        }
-    for (uint32_t o = 0; o < 0x2000; o += 2) {
-        uint16_t fl = (uint16_t)(floor_out_io[o] << 8 | floor_out_io[o + 1]);
-        uint16_t rf = m_rd16(IO_BASE + o);
-        if (fl != rf) {
-            snprintf(msg, len, "register $%06X: floor $%04X, firmware $%04X", (unsigned)(IO_BASE + o), fl, rf);
-            return 1;
-        }
-    }
-    if (floor_out_dev.vme_berr != dev.vme_berr || floor_out_dev.vme_page != dev.vme_page) {
-        snprintf(msg, len, "VMEbus: floor page %u berr %u, firmware page %u berr %u", floor_out_dev.vme_page,
-                 floor_out_dev.vme_berr, dev.vme_page, dev.vme_berr);
-        return 1;
-    }
-    return 0;
+    return floor_compare(msg, len, fields, sizeof fields / sizeof fields[0]);
 }
 
 #define GEN(kind) static void __attribute__((unused)) gen_##kind(int scen) { routine_kind = kind; gen(scen); }

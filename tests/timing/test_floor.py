@@ -18,7 +18,7 @@ import perfscen as ps  # noqa: E402
 ROOT = ps.ROOT
 FLOOR_SRC = os.path.join(ROOT, "bench", "floor")
 CROSS = os.environ.get("CROSS", "m68k-linux-gnu-")
-SERVO_CARDS = ("inc", "ssi")
+CARDS = ("inc", "ssi", "stp")
 
 
 def routines(card):
@@ -27,7 +27,7 @@ def routines(card):
     return [l.split()[3] for l in out.splitlines() if l.startswith("routine ")]
 
 
-@pytest.mark.parametrize("card", SERVO_CARDS)
+@pytest.mark.parametrize("card", CARDS)
 def test_every_routine_is_the_firmware_on_random_inputs(card):
     rc, out, err = ps.floor_run(card, "--check", "3000", "--seed", "12345")
     assert rc == 0, out + err
@@ -35,12 +35,14 @@ def test_every_routine_is_the_firmware_on_random_inputs(card):
     assert sorted(ok) == sorted(routines(card)), out
 
 
-@pytest.mark.parametrize("card", SERVO_CARDS)
+@pytest.mark.parametrize("card", CARDS)
 def test_the_scenarios_inputs_are_the_firmware_too(card):
-    # --measure checks every input it measures, as --check does
+    # --measure checks every input it measures, as --check does; its
+    # scenarios are tools/perfscen.py's, by name (make bench pairs them)
     figures = ps.floors(card, samples=50)
     assert figures["tick"], figures
     for scen, f in figures["tick"].items():
+        assert scen in ps.TICK_SCENARIOS[card], "not a tick scenario of perfscen: %s" % scen
         assert f["cycles"] > 0, (scen, f)
 
 
@@ -56,7 +58,7 @@ def assemble(tmp, include_dir, routine):
     return binf
 
 
-# A changed constant or condition in the routines' parts (bench/floor/servo.inc)
+# A changed constant or condition in the routines' parts (bench/floor/servo.inc, stp.inc)
 # must show: each mutant assembled from a copy and checked against the C.
 MUTANTS = [
     ("inc_counter", "the K term's x 64", r"asl\.l   #6,%d0\n    move\.l  %d0,SV_U1", "asl.l   #5,%d0\n    move.l  %d0,SV_U1"),
@@ -67,24 +69,31 @@ MUTANTS = [
     ("ssi_abs", "<ec>'s bound (raw > lim, not >=)", r"jhi     \\err", "jcc     \\err"),
     ("ssi_abs", "the SSI poll's bit", r"moveq   #AX_IN_SSI_BUSY,%d0", "moveq   #AX_IN_GRAY,%d0"),
     ("inc_counter_brake", "the brake's carry", r"jcc     \.Lb2\\@", "jcs     .Lb2\\@"),
+    ("stp_counter", "the rate's carry (DIVU's remainder)", r"clr\.w   %d6\n    swap    %d6", "clr.w   %d6"),
+    ("stp_counter", "USR on the step counter", r"jne     \.Lsr\\@", "jeq     .Lsr\\@"),
+    ("stp_encoder", "the increments' al x rh", r"(mulu\.w  %d7,%d1 +/\* al rh \*/\n    )add\.l", "mulu.w  %d7,%d1\n    sub.l"),
+    ("stp_counter_brake", "brake_split's borrow", r"subq\.l  #1,%d0\n\.Lb3", "subq.l  #2,%d0\n.Lb3"),
+    ("stp_counter", "TRIM_MAX", r"moveq   #FL_TRIM_MAX,%d1", "moveq   #2,%d1"),
 ]
 
 
 @pytest.mark.parametrize("routine,what,pattern,repl", MUTANTS, ids=[m[1] for m in MUTANTS])
 def test_the_check_catches_a_changed_routine(tmp_path, routine, what, pattern, repl):
     card = routine.split("_")[0]
-    src = open(os.path.join(FLOOR_SRC, "servo.inc")).read()
+    part = "stp.inc" if card == "stp" else "servo.inc"
+    src = open(os.path.join(FLOOR_SRC, part)).read()
     mutated, n = re.subn(pattern, lambda m: repl, src, count=1)
-    assert n == 1, "the mutant's pattern is no longer in servo.inc: %s" % pattern
+    assert n == 1, "the mutant's pattern is no longer in %s: %s" % (part, pattern)
     inc = tmp_path / "inc"
     inc.mkdir()
-    (inc / "servo.inc").write_text(mutated)
-    shutil.copy(os.path.join(FLOOR_SRC, "floor.h"), inc / "floor.h")
+    for f in ("floor.h", "servo.inc", "stp.inc"):
+        shutil.copy(os.path.join(FLOOR_SRC, f), inc / f)
+    (inc / part).write_text(mutated)
     binf = assemble(str(tmp_path), str(inc), routine)
     rc, out, err = ps.floor_run(card, "--check", "3000", "--seed", "12345", "--routine", routine, "--bin", binf)
     assert rc == 1 and "MISMATCH" in out, "%s survived: %s%s" % (what, out, err)
     # and the unchanged source passes the same check
-    (inc / "servo.inc").write_text(src)
+    (inc / part).write_text(src)
     binf = assemble(str(tmp_path), str(inc), routine)
     rc, out, err = ps.floor_run(card, "--check", "3000", "--seed", "12345", "--routine", routine, "--bin", binf)
     assert rc == 0, out + err
