@@ -180,6 +180,37 @@ def floor_section(runs):
     return rows, ratios
 
 
+def supervise_floor_section():
+    """The supervision after each tick (card_supervise_tick, probed in
+    "moving") over its floor routine's cycles: rows and {card: {scenario:
+    ratio}}."""
+    rows, ratios = [], {}
+    for card in ("inc", "ssi", "stp"):
+        have = os.path.exists(os.path.join(ps.FLOOR_DIR, "floorrun-%s" % card))
+        fl = ps.floors(card).get("supervise", {}) if have else {}
+        r = ps.supervised(card)
+        worst = ps.supervise_worst(r)
+        f = fl.get("moving")
+        ratio = round(worst / f["cycles"], 3) if f and worst else None
+        rows.append({"card": card, "scenario": "moving", "supervise": worst, "floor": f["cycles"] if f else None,
+                     "routine": f["routine"] if f else None, "ratio": ratio})
+        if ratio is not None:
+            ratios.setdefault(card, {})["moving"] = ratio
+    return rows, ratios
+
+
+def print_floor_rows(rows, key):
+    print("  %-8s %-14s %7s %7s %7s  %-5s %-8s %s" % ("card", "scenario", key, "floor", "ratio", "aim", "", "routine"))
+    for r in rows:
+        if r["ratio"] is None:
+            print("  MAC4-%-3s %-14s %7s %7s %7s  %-5s %-8s" % (r["card"].upper(), r["scenario"], r[key] or "-",
+                                                           "-", "-", "", "no floor"))
+            continue
+        print("  MAC4-%-3s %-14s %7d %7d %7.2f  %-5.2f %-8s %s" % (
+            r["card"].upper(), r["scenario"], r[key], r["floor"], r["ratio"], ps.AIM_FLOOR_RATIO,
+            "met" if r["ratio"] <= ps.AIM_FLOOR_RATIO else "NOT MET", r["routine"]))
+
+
 def main():
     for f in (ps.SIM, BARE, BARE_STOCK):
         if not os.path.exists(f):
@@ -309,15 +340,10 @@ def main():
           "routine's cycles for its path, four axes, the SP boundary's tick, the same CPU and bus model; "
           "aim <= %.2f" % ps.AIM_FLOOR_RATIO)
     floor_rows, floor_ratio = floor_section(runs)
-    print("  %-8s %-14s %7s %7s %7s  %-5s %-8s %s" % ("card", "scenario", "tick", "floor", "ratio", "aim", "", "routine"))
-    for r in floor_rows:
-        if r["ratio"] is None:
-            print("  MAC4-%-3s %-14s %7s %7s %7s  %-5s %-8s %s" % (r["card"].upper(), r["scenario"], r["tick"] or "-",
-                                                             "-", "-", "", "no floor", ""))
-            continue
-        print("  MAC4-%-3s %-14s %7d %7d %7.2f  %-5.2f %-8s %s" % (
-            r["card"].upper(), r["scenario"], r["tick"], r["floor"], r["ratio"], ps.AIM_FLOOR_RATIO,
-            "met" if r["ratio"] <= ps.AIM_FLOOR_RATIO else "NOT MET", r["routine"]))
+    print_floor_rows(floor_rows, "tick")
+    print("-- the supervision after each tick (card_supervise_tick, probed; four axes positioning) over its floor")
+    sup_rows, sup_ratio = supervise_floor_section()
+    print_floor_rows(sup_rows, "supervise")
 
     boot = {card: ps.boot_ms(card) for card in ("inc", "ssi", "stp")}
     print("-- boot, reset to display $5 (RAM test, EPROM check sum): %s"
@@ -403,6 +429,8 @@ def main():
         # tick / floor (bench/floor/README.md): {card: {scenario: ratio}}, and the figures
         "tick_floor_ratio": floor_ratio,
         "tick_floor": floor_rows,
+        "supervise_floor_ratio": sup_ratio,
+        "supervise_floor": sup_rows,
         "aim_floor_ratio": ps.AIM_FLOOR_RATIO,
         "extensions": exts,
         "bus_model": ps.bus_timing_line(),

@@ -858,6 +858,24 @@ def floor_run(card, *args, timeout=600):
     return p.returncode, p.stdout, p.stderr
 
 
+SUPERVISE_PROBE = "card_supervise_tick"
+
+
+def supervised(card, name="moving"):
+    """A scenario with the supervision after each tick probed
+    (card_supervise_tick, main loop): its run, for supervise_worst() and
+    command_cycles()."""
+    s = SCRIPTS[name](card)
+    return run(card, s.replace("perf probe %s" % PROFILE_PROBE,
+                               "perf probe %s\nperf probe %s" % (PROFILE_PROBE, SUPERVISE_PROBE), 1))
+
+
+def supervise_worst(r):
+    """The longest supervision after a tick in run r (supervised())."""
+    p = r["probe"].get(SUPERVISE_PROBE, {})
+    return p.get("max") if p.get("count") else None
+
+
 def floors(card, samples=None):
     """The floor of every scenario the card's routines cover:
     {kind: {scenario: {"cycles", "min", "routine"}}} (kind: tick, supervise,

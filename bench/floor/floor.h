@@ -33,6 +33,18 @@
 #define CD_DUE          0x06    /* b  card_profile_due */
 #define CD_GENERAL      0x07    /* b  card_servo_general (INC/SSI) */
 #define CD_STPCONV      0x08    /* b  stp_conv (STP): bit n, axis n counts increments */
+/* the supervision's (card_supervise_tick) */
+#define CD_ESTOP        0x09    /* b  estop_seen */
+#define CD_EXTON        0x0A    /* b  ext_on (the extensions, ext.h) */
+#define CD_VIRQWAIT     0x0B    /* b  vme_irq_waiting */
+#define CD_SUPLATE      0x0C    /* w  card_supervise_late */
+#define CD_SUPERVISED   0x10    /* l  card_supervised */
+#define CD_OSTAT        0x14    /* l  card_ostat */
+#define CD_VIRQLOST     0x18    /* l  virq_lost */
+#define CD_NCMD         0x1C    /* l  cmd.c n_commands      (cmd_publish's, in this order) */
+#define CD_RSPLOST      0x20    /* l  cmd.c n_rsp_lost */
+#define CD_QERR         0x24    /* l  cmd.c n_queue_errors */
+#define CD_SERSTATS     0x28    /* 8 l serial.c stats[] (serial_publish's) */
 
 /* ---- an INC/SSI axis (FLOOR_AX(n) + ...) ---------------------------------- */
 #define SV_USTAT        0x00    /* l  ustat */
@@ -101,7 +113,23 @@
 #define SV_OUTLOL       0x9C    /* l  floor: out_lo as a long (the gains) */
 #define SV_ROWS         0xA0    /* 32 sp_rows[2][PROFILE_DIVIDER] */
 #define SV_OUTSPAN      0xC0    /* l  floor: out_hi - out_lo (the gains) */
-#define SV_END          0xC4
+/* the rest of axis_t the supervision (card_supervise_tick) reads and writes */
+#define SV_SSTAT        0xC4    /* l  sstat */
+#define SV_VEL          0xC8    /* l  vel */
+#define SV_SETPOINT     0xCC    /* l  setpoint */
+#define SV_FERR         0xD0    /* l  ferr */
+#define SV_MEASSUP      0xD4    /* l  meas_sup */
+#define SV_MF           0xD8    /* l  mf */
+#define SV_LP           0xDC    /* l  lp */
+#define SV_LN           0xE0    /* l  ln */
+#define SV_IN           0xE4    /* w  in */
+#define SV_SWEN         0xE6    /* w  sw_en */
+#define SV_SWINV        0xE8    /* w  sw_inv */
+#define SV_MKSUP        0xEA    /* b  mk (what mk_tick becomes once initialised) */
+#define SV_INEVAL       0xEB    /* b  in_eval */
+#define SV_IDXSEEN      0xEC    /* b  idx_seen */
+#define SV_DF           0xED    /* b  PAR(n, DF): 0 off, 1 low, 2 high active */
+#define SV_END          0xEE
 
 /* ---- a MAC4-STP axis (FLOOR_AX(n) + ...): axis_t and its stp_t ---------- */
 #define ST_USTAT        0x00    /* l  ustat */
@@ -194,6 +222,17 @@
 #define FL_CREEP_IDLE   0       /* stp_card.h CREEP_* */
 #define FL_CREEP_TRIM   5
 #define FL_TRIM_MAX     3       /* stp_rate.c TRIM_MAX */
+#define FL_M_SEARCH_IDX_C 2
+#define FL_M_HOME       4
+#define FL_US_POS_END   10
+#define FL_US_INIT      12
+#define FL_US_DR_F      17
+#define FL_US_HWL_N     19
+#define FL_US_HWL_P     20
+#define FL_US_SWL_N     21
+#define FL_US_SWL_P     22
+#define FL_US_REF       23
+#define FL_OS_FCODE0    3       /* status.def OSTAT(FCODE0) */
 #define FL_STP_OBITS    (AX_CTRL_DIR + AX_CTRL_BOOST + AX_CTRL_TURBO)   /* stepper.h STP_OBITS */
 
 #endif

@@ -336,14 +336,16 @@ static void cpu_prepare(void)
     fault_vector = 0;
 }
 
-static int cpu_check(char *err, size_t errlen, int skip_a0)
+/* scratch: a subroutine may change d0-d1/a0-a1 (the C ABI's, as the
+ * firmware's functions it stands for) */
+static int cpu_check(char *err, size_t errlen, int scratch)
 {
     if (fault_vector) {
         snprintf(err, errlen, "exception, vector %u (PC $%06X)", fault_vector, m68k_get_reg(NULL, M68K_REG_PPC));
         return -1;
     }
     for (int r = 0; r < 15; r++) {
-        if (skip_a0 && r == 8)
+        if (scratch && (r == 0 || r == 1 || r == 8 || r == 9))
             continue;
         uint32_t v = m68k_get_reg(NULL, (m68k_register_t)(M68K_REG_D0 + r));
         if (v != regs_in[r]) {
@@ -385,7 +387,7 @@ uint64_t floor_isr(uint32_t entry, char *err, size_t errlen)
 uint64_t floor_call(uint32_t entry, uint32_t a0, char *err, size_t errlen)
 {
     cpu_prepare();
-    m68k_set_reg(M68K_REG_SR, 0x2700);
+    m68k_set_reg(M68K_REG_SR, 0x2000);
     m68k_set_reg(M68K_REG_A0, a0);
     regs_in[8] = a0;
     m68k_set_reg(M68K_REG_A1, entry);
@@ -402,7 +404,7 @@ uint64_t floor_call(uint32_t entry, uint32_t a0, char *err, size_t errlen)
         snprintf(err, errlen, "no return within %d cycles (PC $%06X)", RUN_BUDGET, m68k_get_reg(NULL, M68K_REG_PC));
         return 0;
     }
-    if (cpu_check(err, errlen, 0))
+    if (cpu_check(err, errlen, 1))
         return 0;
     return (uint64_t)(call_end - call_start);
 }
@@ -424,7 +426,7 @@ int32_t rnd_range(int32_t lo, int32_t hi)
 int rnd_pct(unsigned pct) { return rnd_below(100) < pct; }
 
 /* ---- main ---------------------------------------------------------------------- */
-static uint8_t io_before[0x2000], sram_before[SRAM_SIZE];
+static uint8_t io_before[0x2000], sram_before[SRAM_SIZE], dpram_before[DPRAM_SIZE];
 static devstate_t dev_before;
 
 /* One input through the routine and the C: 0 equal, 1 different, -1 the
@@ -435,6 +437,7 @@ static int one(const routine_t *r, const char *dir_bin, int scen, uint64_t *cycl
     r->gen(scen);
     memcpy(io_before, fmem + IO_BASE, sizeof io_before);
     memcpy(sram_before, fmem + SRAM_BASE, sizeof sram_before);
+    memcpy(dpram_before, fmem + DPRAM_BASE, sizeof dpram_before);
     dev_before = dev;
     char err[256];
     uint64_t c = r->isr ? floor_isr(FLOOR_CODE, err, sizeof err)
@@ -448,15 +451,17 @@ static int one(const routine_t *r, const char *dir_bin, int scen, uint64_t *cycl
 }
 
 /* For compare(): the routine's results, and the inputs back in place. */
-static uint8_t floor_out_io[0x2000], floor_out_sram[SRAM_SIZE];
+static uint8_t floor_out_io[0x2000], floor_out_sram[SRAM_SIZE], floor_out_dpram[DPRAM_SIZE];
 static devstate_t floor_out_dev;
 void floor_restore_inputs(void)
 {
     memcpy(floor_out_io, fmem + IO_BASE, sizeof floor_out_io);
     memcpy(floor_out_sram, fmem + SRAM_BASE, sizeof floor_out_sram);
+    memcpy(floor_out_dpram, fmem + DPRAM_BASE, sizeof floor_out_dpram);
     floor_out_dev = dev;
     memcpy(fmem + IO_BASE, io_before, sizeof io_before);
     memcpy(fmem + SRAM_BASE, sram_before, sizeof sram_before);
+    memcpy(fmem + DPRAM_BASE, dpram_before, sizeof dpram_before);
     dev = dev_before;
 }
 
@@ -490,6 +495,12 @@ int floor_compare(char *msg, size_t len, const field_t *fields, unsigned nfields
                 snprintf(rf + strlen(rf), sizeof rf - strlen(rf), "%02X", fmem[b]);
             }
             snprintf(msg, len, "axis %d %s (byte $%06X): floor %s, firmware %s", ax, f, (unsigned)a, fl, rf);
+            return 1;
+        }
+    for (uint32_t a = 0x400; a < DPRAM_SIZE; a++)    /* the vectors below: the runner's */
+        if (fmem[DPRAM_BASE + a] != floor_out_dpram[a]) {
+            snprintf(msg, len, "DPRAM $%04X: floor $%02X, firmware $%02X", (unsigned)a, floor_out_dpram[a],
+                     fmem[DPRAM_BASE + a]);
             return 1;
         }
     for (uint32_t o = 0; o < sizeof floor_out_io; o += 2) {

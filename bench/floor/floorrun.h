@@ -50,7 +50,7 @@ int floor_load(const char *path);
 uint64_t floor_isr(uint32_t entry, char *err, size_t errlen);
 /* The routine as a subroutine (JSR entry, ... RTS) with a0 = arg: cycles
  * from its first instruction to the return address, as perf.c's probes
- * count a function. */
+ * count a function; d0-d1/a0-a1 may change (the C ABI's scratch). */
 uint64_t floor_call(uint32_t entry, uint32_t a0, char *err, size_t errlen);
 
 /* ---- comparing ------------------------------------------------------------ */
@@ -58,8 +58,8 @@ uint64_t floor_call(uint32_t entry, uint32_t a0, char *err, size_t errlen);
  * put back (memory, registers, devices) for the firmware's C to run on. */
 void floor_restore_inputs(void);
 /* After the C ran and its state was written back the routine's way: the
- * SRAM (but the stack), the I/O registers and the VMEbus state against the
- * routine's.  fields names an axis record's bytes for the message. */
+ * SRAM (but the stack), the DPRAM (but the vectors), the I/O registers and
+ * the VMEbus state against the routine's.  fields names an axis record's bytes for the message. */
 typedef struct {
     unsigned off, size;
     const char *name;

@@ -15,6 +15,7 @@
 #include "card.h"
 #include "params.h"
 #include "measure.h"
+#include "motion.h"
 #include "floor.h"
 #include "floorrun.h"
 
@@ -31,6 +32,13 @@ volatile uint8_t card_profile_due;
 uint8_t card_servo_general;
 uint32_t card_ostat;
 uint16_t card_err_report;
+/* card.c's statics of the supervision, cmd.c's and serial.c's counters it
+ * publishes, ext.c's switch */
+uint32_t card_supervised;
+uint16_t card_supervise_late;
+static uint8_t estop_seen, ext_on;
+volatile uint8_t vme_irq_waiting;          /* card.h */
+static uint32_t virq_lost, n_commands, n_rsp_lost, n_queue_errors, serial_stats[8];
 
 /* card.c, the axis state an encoder error changes (measure_encoder_error) */
 void axis_set_mode(unsigned n, uint8_t mode)
@@ -205,6 +213,18 @@ static void pack(void)
     m_wr16(FLOOR_CARD + CD_LATE, card_profile_late);
     m_wr8(FLOOR_CARD + CD_DUE, card_profile_due);
     m_wr8(FLOOR_CARD + CD_GENERAL, card_servo_general);
+    m_wr8(FLOOR_CARD + CD_ESTOP, estop_seen);
+    m_wr8(FLOOR_CARD + CD_EXTON, ext_on);
+    m_wr8(FLOOR_CARD + CD_VIRQWAIT, vme_irq_waiting);
+    m_wr16(FLOOR_CARD + CD_SUPLATE, card_supervise_late);
+    m_wr32(FLOOR_CARD + CD_SUPERVISED, card_supervised);
+    m_wr32(FLOOR_CARD + CD_OSTAT, card_ostat);
+    m_wr32(FLOOR_CARD + CD_VIRQLOST, virq_lost);
+    m_wr32(FLOOR_CARD + CD_NCMD, n_commands);
+    m_wr32(FLOOR_CARD + CD_RSPLOST, n_rsp_lost);
+    m_wr32(FLOOR_CARD + CD_QERR, n_queue_errors);
+    for (unsigned i = 0; i < 8; i++)
+        m_wr32(FLOOR_CARD + CD_SERSTATS + 4 * i, serial_stats[i]);
     for (unsigned n = 0; n < MAC4_NAXES; n++) {
         const axis_t *x = &axes[n];
         const servo_gains_t *g = &x->gains;
@@ -268,6 +288,21 @@ static void pack(void)
         w32(n, SV_EADDR, c->addr);
         w16(n, SV_PAGE, c->page);
         w8(n, SV_DKIND, c->abs ? (x->linear ? 0 : 1) : 2);               /* floor: at INIT */
+        w32(n, SV_SSTAT, x->sstat);
+        w32(n, SV_VEL, (uint32_t)x->vel);
+        w32(n, SV_SETPOINT, (uint32_t)x->setpoint);
+        w32(n, SV_FERR, (uint32_t)x->ferr);
+        w32(n, SV_MEASSUP, (uint32_t)x->meas_sup);
+        w32(n, SV_MF, (uint32_t)x->mf);
+        w32(n, SV_LP, (uint32_t)x->lp);
+        w32(n, SV_LN, (uint32_t)x->ln);
+        w16(n, SV_IN, x->in);
+        w16(n, SV_SWEN, x->sw_en);
+        w16(n, SV_SWINV, x->sw_inv);
+        w8(n, SV_MKSUP, x->mk);
+        w8(n, SV_INEVAL, x->in_eval);
+        w8(n, SV_IDXSEEN, x->idx_seen);
+        w8(n, SV_DF, (uint32_t)PAR(n, DF));
         w32(n, SV_OUTLOL, (uint32_t)(int32_t)g->out_lo);                  /* floor: with the gains */
         w32(n, SV_OUTSPAN, (uint32_t)((int32_t)g->out_hi - g->out_lo));
         for (unsigned k = 0; k < 2; k++)
@@ -292,7 +327,10 @@ static const field_t fields[] = {
     {SV_PATH, 1, "path"}, {SV_ABS, 1, "abs"}, {SV_FAILED, 1, "failed"}, {SV_MASK, 4, "mask"}, {SV_LIM, 4, "lim"},
     {SV_RANGE, 4, "range"}, {SV_HALF, 4, "half"}, {SV_SIGN, 4, "sign"}, {SV_EADDR, 4, "addr"},
     {SV_PAGE, 2, "page"}, {SV_DKIND, 1, "delta kind"}, {SV_OUTLOL, 4, "out_lo (long)"},
-    {SV_ROWS, 32, "sp_rows"}, {SV_OUTSPAN, 4, "out_hi - out_lo"},
+    {SV_ROWS, 32, "sp_rows"}, {SV_OUTSPAN, 4, "out_hi - out_lo"}, {SV_SSTAT, 4, "sstat"}, {SV_VEL, 4, "vel"},
+    {SV_SETPOINT, 4, "setpoint"}, {SV_FERR, 4, "ferr"}, {SV_MEASSUP, 4, "meas_sup"}, {SV_MF, 4, "mf"},
+    {SV_LP, 4, "lp"}, {SV_LN, 4, "ln"}, {SV_IN, 2, "in"}, {SV_SWEN, 2, "sw_en"}, {SV_SWINV, 2, "sw_inv"},
+    {SV_MKSUP, 1, "mk"}, {SV_INEVAL, 1, "in_eval"}, {SV_IDXSEEN, 1, "idx_seen"}, {SV_DF, 1, "df"},
 };
 
 /* ---- inputs ------------------------------------------------------------------ */
@@ -616,6 +654,240 @@ GEN(R_SSI_ABS)
 GEN(R_SSI)
 GEN(R_EXT)
 
+/* ---- the supervision after a tick (card.c card_supervise_tick), on the
+ * path of its floor routine (sup.inc): what lies beyond it is not an
+ * input of these (beyond is set if one is) ---------------------------- */
+static int beyond;
+
+static inline void tick_result(axis_t *x, unsigned ph)
+{
+    if (x->mode == M_DISABLE) {
+        x->setpoint = x->meas;
+        x->ferr = 0;
+    } else if (x->mode != M_TEST) {
+        x->setpoint = x->braking ? brake_setpoint(x) : x->sp_now[ph];
+        x->ferr = pos_sub(x->setpoint, x->meas);
+    }
+}
+
+static const uint32_t sw_ustat[8] = {
+    0, UB(HWL_P), UB(HWL_N), UB(HWL_P) | UB(HWL_N), UB(REF), UB(REF) | UB(HWL_P),
+    UB(REF) | UB(HWL_N), UB(REF) | UB(HWL_P) | UB(HWL_N),
+};
+
+static void axis_inputs(unsigned n)
+{
+    axis_t *x = &axes[n];
+    uint16_t in = hal_rd16(AX_REG(n, AX_IN));
+    if (in == x->in && !x->in_eval)
+        return;
+    x->in = in;
+    x->in_eval = 0;
+    if (MAC4_CARD == MAC4_CARD_SSI) {
+        if (in & AX_IN_GRAY)
+            x->ustat |= UB(GRAY);
+        else
+            x->ustat &= ~UB(GRAY);
+    }
+    if (!axis_initialised(n))
+        return;
+    uint16_t active = (uint16_t)((in ^ x->sw_inv) & x->sw_en);
+    x->in_eval = (active & AX_IN_DF) != 0;
+    uint32_t sw = sw_ustat[active & 7u];
+    uint32_t prev = x->ustat;
+    x->ustat = (x->ustat & ~(UB(HWL_P) | UB(HWL_N) | UB(REF))) | sw;
+    if ((active & AX_IN_DF) && x->mode != M_DISABLE && !(x->ustat & UB(DR_F)))
+        beyond = 1;                               /* the drive fault's reaction (motion.c) */
+    if (x->mode == M_TEST && (sw & ~prev & (UB(HWL_P) | UB(HWL_N))))
+        beyond = 1;                               /* axis_disable */
+}
+
+static void supervise_axis(unsigned n, unsigned ph)
+{
+    unsigned prev = hal_irq_save();
+    axis_t *x = &axes[n];
+    tick_result(x, ph);
+    if (x->mk_tick != MK_NONE)
+        x->vel = x->meas - x->meas_sup;
+    if (x->mk_tick == MK_COUNTER)
+        x->raw = x->counter;
+    x->meas_sup = x->meas;
+    x->mk_tick = (x->ustat & UB(INIT)) ? x->mk : MK_NONE;
+    axis_inputs(n);
+    if (!motion_quiet(x))
+        beyond = 1;                               /* motion_supervise */
+    hal_irq_restore(prev);
+}
+
+static void publish(unsigned n)
+{
+    const axis_t *x = &axes[n];
+    uint32_t d = DP_AXIS_DATA(n);
+    hal_wr32(d + DPA_USTAT, x->ustat);
+    hal_wr32(d + DPA_SSTAT, x->sstat);
+    hal_wr32(d + DPA_POS, (uint32_t)x->pos);
+    hal_wr32(d + DPA_SETPOINT, (uint32_t)pos_add(x->pos, x->ferr));
+    hal_wr32(d + DPA_FERR, (uint32_t)x->ferr);
+    hal_wr32(d + DPA_OUT, (uint32_t)(int32_t)x->out);
+    hal_wr32(d + DPA_VEL, (uint32_t)x->vel);
+    hal_wr32(d + DPA_RAW, x->raw);
+}
+
+static void leds(void)
+{
+    uint16_t l = 0;
+    for (unsigned n = 0; n < MAC4_NAXES; n++) {
+        const axis_t *x = &axes[n];
+        if (x->mode == M_DISABLE)
+            l |= (uint16_t)(SYS_LED_D << SYS_LED_SHIFT(n));
+        if (x->ustat & UB(POS_END))
+            l |= (uint16_t)(SYS_LED_P << SYS_LED_SHIFT(n));
+        int32_t df = PAR(n, DF);
+        int df_on = df != 0 && (((hal_rd16(AX_REG(n, AX_IN)) & AX_IN_DF) != 0) ^ (df == 2));
+        if (df_on)
+            l |= (uint16_t)(SYS_LED_F << SYS_LED_SHIFT(n));
+    }
+    hal_wr16(SYS_LEDS, l);
+}
+
+static void card_supervise_tick_ref(void)
+{
+    uint32_t t = card_ticks;
+    if (t == card_supervised)
+        return;
+    if (t - card_supervised > 1u)
+        card_supervise_late++;
+    card_supervised = t;
+    uint16_t sys = hal_rd16(SYS_STATUS);
+    card_ostat = (card_ostat & ~(uint32_t)(OB(FCODE0) | OB(FCODE1) | OB(FCODE2))) |
+                 ((uint32_t)((sys >> SYS_ST_FC_SHIFT) & 7u) << OS_FCODE0);
+    if (estop_seen)
+        beyond = 1;
+    unsigned phase = (t - 1u) & (PROFILE_DIVIDER - 1u);
+    supervise_axis(0, phase);
+    supervise_axis(1, phase);
+    supervise_axis(2, phase);
+    supervise_axis(3, phase);
+    uint16_t w = hal_rd16(DP_STOP_BITS);                    /* stop_bits */
+    if ((w | (w >> 8)) & 0xAAu)
+        beyond = 1;
+    if (ext_on)
+        beyond = 1;                                         /* ext_supervise */
+    unsigned prev = hal_irq_save();
+    publish(phase);
+    hal_irq_restore(prev);
+    if (phase == 0)
+        leds();
+    hal_wr32(DPC_TICKS, t);
+    hal_wr32(DPC_OSTAT, card_ostat);
+    hal_wr32(DPC_PROFILE_LATE, card_profile_late);
+    hal_wr32(DPC_SUPERVISE_LATE, card_supervise_late);
+    hal_wr32(DPC_VME_IRQ_LOST, virq_lost);
+    hal_wr32(DPC_COMMANDS, n_commands);                     /* cmd_publish */
+    hal_wr32(DPC_RSP_LOST, n_rsp_lost);
+    hal_wr32(DPC_QUEUE_ERRORS, n_queue_errors);
+    unsigned i = 2u * (phase & 3u);                         /* serial_publish */
+    hal_wr32(DPC_SERIAL_RX_OK + 4u * i, serial_stats[i]);
+    hal_wr32(DPC_SERIAL_RX_OK + 4u * (i + 1u), serial_stats[i + 1u]);
+    if (vme_irq_waiting)
+        beyond = 1;                                         /* vme_irq_service_do */
+}
+
+/* a tick's state (gen) as the supervision finds it, on its routine's path */
+static void gen_sup(int scen)
+{
+    routine_kind = MAC4_CARD == MAC4_CARD_SSI ? R_SSI_ABS : R_COUNTER;
+    gen(scen);
+    int broad = scen < 0;
+    for (unsigned n = 0; n < MAC4_NAXES; n++) {
+        axis_t *x = &axes[n];
+        x->braking = 0;
+        x->ustat &= ~(UB(HWL_P) | UB(HWL_N) | UB(SWL_P) | UB(SWL_N) | UB(POS_END));
+        x->ustat |= broad && rnd_pct(50) ? UB(POS_END) : 0;
+        x->ustat &= broad && rnd_pct(10) ? ~UB(INIT) : ~0u;
+        x->sstat = rnd();
+        x->mk = MAC4_CARD == MAC4_CARD_SSI ? MK_SSI_ABS : MK_COUNTER;
+        x->mk_tick = broad && rnd_pct(15) ? MK_NONE : x->mk;
+        x->meas_sup = broad ? (int32_t)rnd() : x->meas - 25;
+        x->vel = (int32_t)rnd();
+        x->setpoint = (int32_t)rnd();
+        x->ferr = (int32_t)rnd();
+        x->stop_settle = 0;
+        /* the following error the tick used, within <mf> (or on it) */
+        unsigned ph = (card_ticks - 1u) & 3u;
+        int32_t f = x->mode == M_DISABLE ? 0 : x->mode == M_TEST ? x->ferr : pos_sub(x->sp_now[ph], x->meas);
+        int32_t af = f < 0 ? -f : f;
+        x->mf = af == INT32_MIN ? INT32_MAX : af + (broad ? (int32_t)rnd_below(3) * (rnd_pct(50) ? 1 : 1000) : 1000);
+        /* within the software limits (or on them) */
+        x->lp = pos_add(x->pos, broad ? (int32_t)rnd_below(3) * (rnd_pct(50) ? 1 : 100000) : 100000);
+        x->ln = pos_sub(x->pos, broad ? (int32_t)rnd_below(3) * (rnd_pct(50) ? 1 : 100000) : 100000);
+        if (x->lp < x->pos || x->ln > x->pos) {
+            x->lp = INT32_MAX;
+            x->ln = INT32_MIN;
+        }
+        /* the switches: configured, the reference active at times, no limit,
+         * no drive fault; the inputs changed (an index pulse, the reference
+         * switch) or not */
+        x->sw_en = (uint16_t)((broad ? rnd() : 0xF) & (AX_IN_IESP | AX_IN_IESN | AX_IN_RS | AX_IN_DF));
+        x->sw_inv = (uint16_t)(rnd() & x->sw_en);
+        uint16_t in = (uint16_t)(rnd() & 0x7FF & ~AX_IN_SSI_BUSY);   /* (busy: the device model's) */
+        in = (uint16_t)((in & ~(AX_IN_IESP | AX_IN_IESN | AX_IN_DF)) | (x->sw_inv & (AX_IN_IESP | AX_IN_IESN | AX_IN_DF)));
+        if (!broad)
+            in = (uint16_t)(in & ~AX_IN_GRAY) | (MAC4_CARD == MAC4_CARD_SSI ? AX_IN_GRAY : 0);
+        /* the scenario: the INC's encoders' index pulses change the inputs
+         * (their evaluation), the SSI's absolute encoders have none */
+        int same = broad ? rnd_pct(40) : MAC4_CARD == MAC4_CARD_SSI;
+        x->in = same ? in : (uint16_t)(in ^ AX_IN_IDX);
+        x->in_eval = (uint8_t)(broad && rnd_pct(20));
+        m_wr16(AX_REG(n, AX_IN), in);
+        x->idx_seen = (uint8_t)(x->mode == M_SEARCH_IDX_C || x->mode == M_SEARCH_IDX || x->mode == M_HOME ||
+                                rnd_pct(50));
+        par_a[P_DF][n] = (int32_t)rnd_below(3);
+    }
+    card_supervised = card_ticks - (broad ? (rnd_pct(10) ? 0 : rnd_pct(20) ? rnd_range(2, 5) : 1) : 1);
+    card_supervise_late = (uint16_t)rnd();
+    card_ostat = rnd();
+    estop_seen = ext_on = 0;
+    vme_irq_waiting = 0;
+    virq_lost = rnd();
+    n_commands = rnd();
+    n_rsp_lost = rnd();
+    n_queue_errors = rnd();
+    for (unsigned i = 0; i < 8; i++)
+        serial_stats[i] = rnd();
+    if (!broad)
+        card_ticks = 4001u + 4u * rnd_below(1000);      /* after an SP boundary's tick: the LEDs too */
+    m_wr16(SYS_STATUS, (uint16_t)rnd());
+    memset(fmem + DPRAM_BASE + 0x400, 0, DPRAM_SIZE - 0x400);
+    m_wr16(DP_STOP_BITS, (uint16_t)(rnd() & 0x5555u));      /* the even bits are not stop bits */
+    pack();
+}
+
+static int compare_sup(char *msg, size_t len)
+{
+    floor_restore_inputs();
+    beyond = 0;
+    card_supervise_tick_ref();
+    if (beyond) {
+        snprintf(msg, len, "an input beyond the routine's path (ref_servo.c gen_sup)");
+        return 1;
+    }
+    pack();
+    return floor_compare(msg, len, fields, sizeof fields / sizeof fields[0]);
+}
+
+static const routine_t sup_routines[] = {
+    {MAC4_CARD == MAC4_CARD_INC ? "inc_supervise" : "ssi_supervise", gen_sup, compare_sup, 0, NULL},
+};
+static const scenario_t sup_scenarios[] = {
+    {"moving", MAC4_CARD == MAC4_CARD_INC ? "inc_supervise" : "ssi_supervise", S_MOVING,
+     MAC4_CARD == MAC4_CARD_INC ? "four axes positioning, an index pulse on each, after the SP boundary's tick (the LEDs)"
+                                : "four axes positioning, after the SP boundary's tick (the LEDs)"},
+};
+static const module_t sup_module = {
+    MAC4_CARD == MAC4_CARD_INC ? "inc" : "ssi", "supervise", sup_routines, 1, sup_scenarios, 1,
+};
+
 #if MAC4_CARD == MAC4_CARD_INC
 static const routine_t routines[] = {
     {"inc_counter", gen_R_COUNTER, compare, 1, NULL},
@@ -661,4 +933,4 @@ static const module_t tick_module = {
     MAC4_CARD == MAC4_CARD_INC ? "inc" : "ssi", "tick", routines, sizeof routines / sizeof routines[0],
     scenarios, sizeof scenarios / sizeof scenarios[0],
 };
-const module_t *const floor_modules[] = {&tick_module, NULL};
+const module_t *const floor_modules[] = {&tick_module, &sup_module, NULL};

@@ -44,6 +44,9 @@ def test_the_scenarios_inputs_are_the_firmware_too(card):
     for scen, f in figures["tick"].items():
         assert scen in ps.TICK_SCENARIOS[card], "not a tick scenario of perfscen: %s" % scen
         assert f["cycles"] > 0, (scen, f)
+    for kind in figures:
+        for scen in figures[kind]:
+            assert scen in ps.SCRIPTS, "not a scenario of perfscen: %s %s" % (kind, scen)
 
 
 def assemble(tmp, include_dir, routine):
@@ -74,19 +77,22 @@ MUTANTS = [
     ("stp_encoder", "the increments' al x rh", r"(mulu\.w  %d7,%d1 +/\* al rh \*/\n    )add\.l", "mulu.w  %d7,%d1\n    sub.l"),
     ("stp_counter_brake", "brake_split's borrow", r"subq\.l  #1,%d0\n\.Lb3", "subq.l  #2,%d0\n.Lb3"),
     ("stp_counter", "TRIM_MAX", r"moveq   #FL_TRIM_MAX,%d1", "moveq   #2,%d1"),
+    ("inc_supervise", "the LED of pos_end", r"or\.w    #\(SYS_LED_P", "or.w    #(SYS_LED_D"),
+    ("inc_supervise", "RED of the counter path", r"move\.l  SV_COUNTER\(%a0\),SV_RAW\(%a0\)", "nop"),
+    ("ssi_supervise", "the Gray bit of the inputs", r"btst    #5,%d0", "btst    #4,%d0"),
 ]
 
 
 @pytest.mark.parametrize("routine,what,pattern,repl", MUTANTS, ids=[m[1] for m in MUTANTS])
 def test_the_check_catches_a_changed_routine(tmp_path, routine, what, pattern, repl):
     card = routine.split("_")[0]
-    part = "stp.inc" if card == "stp" else "servo.inc"
+    part = "sup.inc" if routine.endswith("_supervise") else "stp.inc" if card == "stp" else "servo.inc"
     src = open(os.path.join(FLOOR_SRC, part)).read()
     mutated, n = re.subn(pattern, lambda m: repl, src, count=1)
     assert n == 1, "the mutant's pattern is no longer in %s: %s" % (part, pattern)
     inc = tmp_path / "inc"
     inc.mkdir()
-    for f in ("floor.h", "servo.inc", "stp.inc"):
+    for f in ("floor.h", "servo.inc", "stp.inc", "sup.inc"):
         shutil.copy(os.path.join(FLOOR_SRC, f), inc / f)
     (inc / part).write_text(mutated)
     binf = assemble(str(tmp_path), str(inc), routine)
