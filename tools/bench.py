@@ -182,21 +182,23 @@ def floor_section(runs):
 
 def supervise_floor_section():
     """The supervision after each tick (card_supervise_tick, probed in
-    "moving") over its floor routine's cycles: rows and {card: {scenario:
-    ratio}}."""
-    rows, ratios = [], {}
+    "moving": its worst) and the command path (cycles per command beyond an
+    idle pass, the host sending back to back) over their floor routines:
+    (rows, {card: {scenario: ratio}}) for each."""
+    sup_rows, sup_ratio, cmd_rows, cmd_ratio = [], {}, [], {}
     for card in ("inc", "ssi", "stp"):
         have = os.path.exists(os.path.join(ps.FLOOR_DIR, "floorrun-%s" % card))
-        fl = ps.floors(card).get("supervise", {}) if have else {}
+        fl = ps.floors(card) if have else {}
         r = ps.supervised(card)
-        worst = ps.supervise_worst(r)
-        f = fl.get("moving")
-        ratio = round(worst / f["cycles"], 3) if f and worst else None
-        rows.append({"card": card, "scenario": "moving", "supervise": worst, "floor": f["cycles"] if f else None,
-                     "routine": f["routine"] if f else None, "ratio": ratio})
-        if ratio is not None:
-            ratios.setdefault(card, {})["moving"] = ratio
-    return rows, ratios
+        for kind, fig, rows, ratios in (("supervise", ps.supervise_worst(r), sup_rows, sup_ratio),
+                                        ("command", ps.command_cycles(r), cmd_rows, cmd_ratio)):
+            f = fl.get(kind, {}).get("moving")
+            ratio = round(fig / f["cycles"], 3) if f and fig else None
+            rows.append({"card": card, "scenario": "moving", kind: fig, "floor": f["cycles"] if f else None,
+                         "routine": f["routine"] if f else None, "ratio": ratio})
+            if ratio is not None:
+                ratios.setdefault(card, {})["moving"] = ratio
+    return sup_rows, sup_ratio, cmd_rows, cmd_ratio
 
 
 def print_floor_rows(rows, key):
@@ -341,9 +343,11 @@ def main():
           "aim <= %.2f" % ps.AIM_FLOOR_RATIO)
     floor_rows, floor_ratio = floor_section(runs)
     print_floor_rows(floor_rows, "tick")
-    print("-- the supervision after each tick (card_supervise_tick, probed; four axes positioning) over its floor")
-    sup_rows, sup_ratio = supervise_floor_section()
+    sup_rows, sup_ratio, cmd_rows, cmd_ratio = supervise_floor_section()
+    print("-- the supervision after each tick (card_supervise_tick, probed, its worst; four axes positioning)")
     print_floor_rows(sup_rows, "supervise")
+    print("-- the command path: cycles per command beyond an idle pass (the host's reads back to back)")
+    print_floor_rows(cmd_rows, "command")
 
     boot = {card: ps.boot_ms(card) for card in ("inc", "ssi", "stp")}
     print("-- boot, reset to display $5 (RAM test, EPROM check sum): %s"
@@ -431,6 +435,8 @@ def main():
         "tick_floor": floor_rows,
         "supervise_floor_ratio": sup_ratio,
         "supervise_floor": sup_rows,
+        "command_floor_ratio": cmd_ratio,
+        "command_floor": cmd_rows,
         "aim_floor_ratio": ps.AIM_FLOOR_RATIO,
         "extensions": exts,
         "bus_model": ps.bus_timing_line(),

@@ -876,6 +876,16 @@ def supervise_worst(r):
     return p.get("max") if p.get("count") else None
 
 
+def command_cycles(r):
+    """Cycles per command in run r (supervised(): the supervision and the
+    profile generator probed, so neither is in it): the command passes'
+    work beyond the cheapest idle pass (perf load "cmd"), per command pass."""
+    ld = r["load"]
+    if not ld.get("cmd_passes"):
+        return None
+    return round(ld["cmd"] / 100.0 * ld["window_ms"] * CPU_HZ / 1000.0 / ld["cmd_passes"])
+
+
 def floors(card, samples=None):
     """The floor of every scenario the card's routines cover:
     {kind: {scenario: {"cycles", "min", "routine"}}} (kind: tick, supervise,

@@ -45,6 +45,22 @@
 #define CD_RSPLOST      0x20    /* l  cmd.c n_rsp_lost */
 #define CD_QERR         0x24    /* l  cmd.c n_queue_errors */
 #define CD_SERSTATS     0x28    /* 8 l serial.c stats[] (serial_publish's) */
+/* the command path's (cmd.c cmd_poll) */
+#define CD_SERWORK      0x48    /* b  serial_rx_work */
+#define CD_FIFOCNT      0x49    /* b  serial_fifo_count */
+#define CD_WDFIRED      0x4A    /* b  wd_fired */
+#define CD_MR           0x4B    /* b  cmd_mr */
+#define CD_NHELD        0x4C    /* b  n_held */
+#define CD_TURN         0x4D    /* b  turn */
+#define CD_QBAD         0x4E    /* b  queue_bad */
+#define CD_LASTAX       0x4F    /* b  last_valid_axis */
+#define CD_IRQ12        0x50    /* b  irq12 */
+#define CD_VQDUE        0x51    /* b  motion_vq_due */
+#define CD_NCODES       0x52    /* w  the command table's length */
+#define CD_WD           0x54    /* l  PAR(0, WD) */
+#define CD_CIROUT       0x58    /* b  the command index CI_ROUT (cmd.h) */
+#define FLOOR_CMDTAB    (SRAM_BASE + 0x0800)    /* cmd.c cmds[]: kind, arg per code (CK_FIELD: the
+                                                 * record's offset, floor) */
 
 /* ---- an INC/SSI axis (FLOOR_AX(n) + ...) ---------------------------------- */
 #define SV_USTAT        0x00    /* l  ustat */
@@ -233,6 +249,9 @@
 #define FL_US_SWL_P     22
 #define FL_US_REF       23
 #define FL_OS_FCODE0    3       /* status.def OSTAT(FCODE0) */
+#define FL_CK_READ      4       /* cmd_table.h CK_*: kind >= CK_READ is a read */
+#define FL_CK_DIAG      6
+#define FL_CK_FIELD     7
 #define FL_STP_OBITS    (AX_CTRL_DIR + AX_CTRL_BOOST + AX_CTRL_TURBO)   /* stepper.h STP_OBITS */
 
 #endif

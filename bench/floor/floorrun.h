@@ -88,6 +88,8 @@ typedef struct {
     const char *routine;
     int scen;                   /* passed to gen */
     const char *what;           /* one line: the path */
+    int baseline;               /* 0: the figure is the worst; else the mean beyond the least
+                                 * of gen(baseline - 1) (a command pass beyond an idle pass) */
 } scenario_t;
 typedef struct {
     const char *card;           /* inc, ssi, stp */

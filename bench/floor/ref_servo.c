@@ -16,6 +16,9 @@
 #include "params.h"
 #include "measure.h"
 #include "motion.h"
+#include "cmd.h"
+#include "cmd_table.h"
+#include <stddef.h>
 #include "floor.h"
 #include "floorrun.h"
 
@@ -648,11 +651,11 @@ static int compare(char *msg, size_t len)
     return floor_compare(msg, len, fields, sizeof fields / sizeof fields[0]);
 }
 
-#define GEN(kind) static void __attribute__((unused)) gen_##kind(int scen) { routine_kind = kind; gen(scen); }
-GEN(R_COUNTER)
-GEN(R_SSI_ABS)
-GEN(R_SSI)
-GEN(R_EXT)
+#define GEN_FOR(kind) static void __attribute__((unused)) gen_##kind(int scen) { routine_kind = kind; gen(scen); }
+GEN_FOR(R_COUNTER)
+GEN_FOR(R_SSI_ABS)
+GEN_FOR(R_SSI)
+GEN_FOR(R_EXT)
 
 /* ---- the supervision after a tick (card.c card_supervise_tick), on the
  * path of its floor routine (sup.inc): what lies beyond it is not an
@@ -882,10 +885,254 @@ static const routine_t sup_routines[] = {
 static const scenario_t sup_scenarios[] = {
     {"moving", MAC4_CARD == MAC4_CARD_INC ? "inc_supervise" : "ssi_supervise", S_MOVING,
      MAC4_CARD == MAC4_CARD_INC ? "four axes positioning, an index pulse on each, after the SP boundary's tick (the LEDs)"
-                                : "four axes positioning, after the SP boundary's tick (the LEDs)"},
+                                : "four axes positioning, after the SP boundary's tick (the LEDs)", 0},
 };
 static const module_t sup_module = {
     MAC4_CARD == MAC4_CARD_INC ? "inc" : "ssi", "supervise", sup_routines, 1, sup_scenarios, 1,
+};
+
+/* ---- the command path (cmd.c cmd_poll and what it calls), on the path
+ * of its floor routine (cmd.inc): the VME host's reads ------------------- */
+/* cmd.c's table, restated: code -> kind and argument */
+#define DIAG_FIELD(f) CK_FIELD, offsetof(axis_t, f)
+#define DIAG_RCP  DIAG_FIELD(pos)
+#define DIAG_RCPI DIAG_FIELD(counter)
+#define DIAG_ROUT CK_DIAG, CI_ROUT
+#define DIAG_RCT  DIAG_FIELD(counter)
+#define DIAG_RED  DIAG_FIELD(raw)
+#define DIAG_RFE  DIAG_FIELD(ferr)
+#define DIAG_RPS  CK_DIAG, CI_RPS
+#define DIAG_RAV  DIAG_FIELD(vel)
+#define DIAG_RAS  CK_DIAG, CI_RAS
+#define DIAG_RBS  DIAG_FIELD(ustat)
+#define DIAG_RSS  DIAG_FIELD(sstat)
+#define CMD_ON(cards, kind, arg) {ON_THIS_CARD(cards) ? (kind) : CK_NONE, (uint8_t)(arg)}
+#define CMD_ON_(...) CMD_ON(__VA_ARGS__)
+static const cmd_t cmds[] = {
+#define GEN(mn, code, cards, kind, desc) [code] = CMD_ON(cards, kind, CI_##mn),
+#define MODESEL(mn, code, cards, mode, desc) [code] = CMD_ON(cards, CK_MODE, (mode)),
+#define DIAG(mn, code, cards, units, desc) [code] = CMD_ON_(cards, DIAG_##mn),
+#define PARAM(id, mn, kind, wcode, cards, flags, min, max, def, units, desc) \
+    [wcode] = CMD_ON(cards, CK_WPAR, P_##id), [(wcode) + 1] = CMD_ON(cards, CK_RPAR, P_##id),
+#include "commands.def"
+};
+#define NCODES (sizeof cmds / sizeof cmds[0])
+
+/* the record's offset of a CK_FIELD (floor: the table with the routine's offsets) */
+static uint8_t field_off(uint8_t host)
+{
+    static const struct { size_t host; uint8_t fl; } map[] = {
+        {offsetof(axis_t, pos), SV_POS}, {offsetof(axis_t, counter), SV_COUNTER}, {offsetof(axis_t, raw), SV_RAW},
+        {offsetof(axis_t, ferr), SV_FERR}, {offsetof(axis_t, vel), SV_VEL}, {offsetof(axis_t, ustat), SV_USTAT},
+        {offsetof(axis_t, sstat), SV_SSTAT},
+    };
+    for (unsigned i = 0; i < sizeof map / sizeof map[0]; i++)
+        if (map[i].host == host)
+            return map[i].fl;
+    fprintf(stderr, "floorrun: a CK_FIELD of no known field\n");
+    return 0xFF;
+}
+
+static uint8_t serial_rx_work, serial_fifo_count, wd_fired, n_held, turn, queue_bad, last_valid_axis, irq12;
+uint8_t cmd_mr;                               /* cmd.h */
+uint8_t motion_vq_due;
+static int32_t par_wd;
+
+static void cmd_poll_ref(void)
+{
+    if (serial_rx_work)
+        beyond = 1;                                 /* serial_poll_work */
+    if (par_wd > 0)
+        beyond = 1;                                 /* watchdog_check */
+    if (cmd_mr)
+        return;
+    if (n_held)
+        beyond = 1;                                 /* release_held */
+    uint8_t t = turn ^= 1u;
+    int have = 0;
+    mac4_msg_t in;
+    if (t && serial_fifo_count)
+        beyond = 1;                                 /* serial_get */
+    int r = q_get_at(DP_CMD_QUEUE, &in, 0);
+    if (r == Q_CORRUPT) {
+        if (!queue_bad)
+            hal_wr32(DPC_QUEUE_ERRORS, ++n_queue_errors);
+        queue_bad = 1;
+    } else {
+        queue_bad = 0;
+        have = r;
+        if (have) {
+            in.source = MSG_SRC_VME;
+            if ((irq12 & 1u) && in.axis < MAC4_NAXES)
+                beyond = 1;                         /* interrupt 1 */
+        }
+    }
+    if (!have && !t && serial_fifo_count)
+        beyond = 1;
+    if (!have)
+        return;
+    /* must_wait: a read never waits; the read itself (cmd_execute) */
+    cmd_t c = in.code < NCODES ? cmds[in.code] : (cmd_t){CK_NONE, 0};
+    if (!kind_is_read(c.kind) || in.axis >= MAC4_NAXES)
+        beyond = 1;                                 /* the other commands, 160 */
+    if (beyond)
+        return;
+    mac4_msg_t out = {0, 0, 0, 0};
+    unsigned prev = hal_irq_save();
+    if (card_ticks != card_supervised)
+        beyond = 1;                                 /* card_supervise_tick first */
+    out.axis = in.axis;
+    out.source = in.source;
+    out.code = in.code;
+    wd_fired = 0;
+    last_valid_axis = in.axis;
+    const axis_t *x = axis_at[in.axis];
+    if (c.kind == CK_FIELD)
+        out.param = *(const uint32_t *)(const void *)((const uint8_t *)x + c.arg);
+    else if (c.kind == CK_DIAG && c.arg == CI_ROUT)
+        out.param = (uint32_t)(int32_t)x->out;     /* cmd_read_value */
+    else
+        beyond = 1;
+    hal_irq_restore(prev);
+    hal_wr32(DPC_COMMANDS, ++n_commands);
+    if (motion_vq_due)
+        beyond = 1;                                 /* motion_after_command_do */
+    if (q_put_at(DP_RSP_QUEUE, out.axis, out.code, out.param, MSG_SRC_VME) != Q_OK) {
+        hal_wr32(DPC_RSP_LOST, ++n_rsp_lost);
+        return;
+    }
+    if (irq12 & 2u)
+        beyond = 1;                                 /* interrupt 2 */
+}
+
+static void pack_cmd(void)
+{
+    pack();
+    m_wr8(FLOOR_CARD + CD_SERWORK, serial_rx_work);
+    m_wr8(FLOOR_CARD + CD_FIFOCNT, serial_fifo_count);
+    m_wr8(FLOOR_CARD + CD_WDFIRED, wd_fired);
+    m_wr8(FLOOR_CARD + CD_MR, cmd_mr);
+    m_wr8(FLOOR_CARD + CD_NHELD, n_held);
+    m_wr8(FLOOR_CARD + CD_TURN, turn);
+    m_wr8(FLOOR_CARD + CD_QBAD, queue_bad);
+    m_wr8(FLOOR_CARD + CD_LASTAX, last_valid_axis);
+    m_wr8(FLOOR_CARD + CD_IRQ12, irq12);
+    m_wr8(FLOOR_CARD + CD_VQDUE, motion_vq_due);
+    m_wr16(FLOOR_CARD + CD_NCODES, (uint16_t)NCODES);
+    m_wr32(FLOOR_CARD + CD_WD, (uint32_t)par_wd);
+    m_wr8(FLOOR_CARD + CD_CIROUT, CI_ROUT);
+    for (unsigned k = 0; k < NCODES; k++) {
+        m_wr8(FLOOR_CMDTAB + 2 * k, cmds[k].kind);
+        m_wr8(FLOOR_CMDTAB + 2 * k + 1, cmds[k].kind == CK_FIELD ? field_off(cmds[k].arg) : cmds[k].arg);
+    }
+}
+
+/* the host's reads in turn, as perf host-load sends them */
+static const char *const load_mn[] = {"RBS", "RCP", "RFE", "ROUT"};
+static uint16_t code_of(const char *mn)
+{
+    static const struct { const char *mn; uint16_t code; } t[] = {
+#define GEN(mn, code, cards, kind, desc) {#mn, code},
+#define MODESEL(mn, code, cards, mode, desc) {#mn, code},
+#define DIAG(mn, code, cards, units, desc) {#mn, code},
+#define PARAM(id, mn, kind, wcode, cards, flags, min, max, def, units, desc)
+#include "commands.def"
+    };
+    for (unsigned i = 0; i < sizeof t / sizeof t[0]; i++)
+        if (!strcmp(t[i].mn, mn))
+            return t[i].code;
+    return 0xFFFF;
+}
+
+static void queue_make(uint32_t q, uint32_t front, uint32_t rear)
+{
+    m_wr32(q + QH_BASE, Q_HEADER_SIZE);
+    m_wr32(q + QH_FRONT, front);
+    m_wr32(q + QH_REAR, rear);
+    m_wr32(q + QH_FREE, rnd());
+    m_wr32(q + QH_WIDTH, Q_WIDTH);
+    m_wr32(q + QH_NEL, Q_NEL);
+}
+
+enum { S_CMD, S_CMD_IDLE };
+static unsigned cmd_k;
+
+static void gen_cmd(int scen)
+{
+    int broad = scen < 0;
+    routine_kind = MAC4_CARD == MAC4_CARD_SSI ? R_SSI_ABS : R_COUNTER;
+    gen(broad ? -1 : S_MOVING);
+    for (unsigned n = 0; n < MAC4_NAXES; n++) {
+        axes[n].sstat = rnd();
+        axes[n].vel = (int32_t)rnd();
+        axes[n].ferr = (int32_t)rnd();
+    }
+    serial_rx_work = serial_fifo_count = 0;
+    par_wd = broad && rnd_pct(20) ? -(int32_t)rnd_below(5) : 0;
+    cmd_mr = (uint8_t)(broad && rnd_pct(5));
+    n_held = 0;
+    turn = (uint8_t)rnd_below(2);
+    queue_bad = (uint8_t)rnd_below(2);
+    last_valid_axis = (uint8_t)rnd_below(4);
+    irq12 = 0;
+    motion_vq_due = 0;
+    wd_fired = (uint8_t)rnd_below(2);
+    card_supervised = card_ticks;
+    n_commands = rnd();
+    n_rsp_lost = rnd();
+    n_queue_errors = rnd();
+    memset(fmem + DPRAM_BASE + 0x400, 0, DPRAM_SIZE - 0x400);
+    /* the command queue: one command waiting (or none, a corrupt header) */
+    uint32_t rear = rnd_below(Q_NEL), front = rear == Q_NEL - 1 ? 0 : rear + 1;
+    if (scen == S_CMD_IDLE || (broad && rnd_pct(10)))
+        front = rear;
+    queue_make(DP_CMD_QUEUE, front, rear);
+    if (broad && rnd_pct(10))
+        m_wr32(DP_CMD_QUEUE + (rnd_pct(50) ? QH_WIDTH : rnd_pct(50) ? QH_FRONT : QH_REAR), 10 + rnd_below(5));
+    uint32_t e = DP_CMD_QUEUE + Q_HEADER_SIZE + 10 * rear;
+    unsigned k = cmd_k++;
+    uint16_t code = code_of(load_mn[k % 4]);
+    if (broad && rnd_pct(50)) {               /* any read of a field, or ROUT */
+        do
+            code = (uint16_t)rnd_below(NCODES);
+        while (!(cmds[code].kind == CK_FIELD || (cmds[code].kind == CK_DIAG && cmds[code].arg == CI_ROUT)));
+    }
+    m_wr16(e + MSG_AXIS, (uint16_t)((broad ? rnd_below(4) : (k / 4) % 4) << 8 | (rnd() & 0xFF)));
+    m_wr16(e + MSG_CODE, code);
+    m_wr32(e + MSG_PARAM, rnd());
+    m_wr16(e + MSG_SOURCE, (uint16_t)rnd());
+    /* the response queue: room (or full, a corrupt header) */
+    uint32_t rf = rnd_below(Q_NEL), rr = broad && rnd_pct(10) ? (rf + 1) % Q_NEL : (rf + 2 + rnd_below(8)) % Q_NEL;
+    if (rr == rf)
+        rr = (rf + 5) % Q_NEL;
+    queue_make(DP_RSP_QUEUE, rf, rr);
+    if (broad && rnd_pct(5))
+        m_wr32(DP_RSP_QUEUE + QH_NEL, 11);
+    pack_cmd();
+}
+
+static int compare_cmd(char *msg, size_t len)
+{
+    floor_restore_inputs();
+    beyond = 0;
+    cmd_poll_ref();
+    if (beyond) {
+        snprintf(msg, len, "an input beyond the routine's path (ref_servo.c gen_cmd)");
+        return 1;
+    }
+    pack_cmd();
+    return floor_compare(msg, len, fields, sizeof fields / sizeof fields[0]);
+}
+
+static const routine_t cmd_routines[] = {
+    {MAC4_CARD == MAC4_CARD_INC ? "inc_cmd" : "ssi_cmd", gen_cmd, compare_cmd, 0, NULL},
+};
+static const scenario_t cmd_scenarios[] = {
+    {"moving", MAC4_CARD == MAC4_CARD_INC ? "inc_cmd" : "ssi_cmd", S_CMD,
+     "the host's reads in turn (RBS, RCP, RFE, ROUT on axes 1-4): a command pass beyond an idle one", 1 + S_CMD_IDLE},
+};
+static const module_t cmd_module = {
+    MAC4_CARD == MAC4_CARD_INC ? "inc" : "ssi", "command", cmd_routines, 1, cmd_scenarios, 1,
 };
 
 #if MAC4_CARD == MAC4_CARD_INC
@@ -896,16 +1143,16 @@ static const routine_t routines[] = {
     {"inc_ext", gen_R_EXT, compare, 1, NULL},
 };
 static const scenario_t scenarios[] = {
-    {"moving", "inc_counter", S_MOVING, "counter, linear, K only"},
-    {"circular", "inc_counter_circ", S_CIRCULAR, "counter, circular, K only"},
-    {"full", "inc_counter_circ", S_FULL, "counter, circular, the general filter and <sw>"},
-    {"external", "inc_ext", S_MOVING, "VMEbus encoders (<et> 4, 24 bits), linear, K only"},
-    {"external_full", "inc_ext", S_FULL, "VMEbus encoders, the general filter and <sw>"},
-    {"braking", "inc_counter_brake", S_BRAKING, "counter, linear, the tick's own brake, K only"},
-    {"encoder_loss", "inc_ext", S_LOSS, "VMEbus encoders, all four failing: encoder error, disabled"},
-    {"ext_table", "inc_counter", S_MOVING, "as moving: the extensions work after the tick"},
-    {"ext_compare", "inc_counter", S_MOVING, "as moving"},
-    {"ext_feedback", "inc_counter", S_MOVING, "as moving"},
+    {"moving", "inc_counter", S_MOVING, "counter, linear, K only", 0},
+    {"circular", "inc_counter_circ", S_CIRCULAR, "counter, circular, K only", 0},
+    {"full", "inc_counter_circ", S_FULL, "counter, circular, the general filter and <sw>", 0},
+    {"external", "inc_ext", S_MOVING, "VMEbus encoders (<et> 4, 24 bits), linear, K only", 0},
+    {"external_full", "inc_ext", S_FULL, "VMEbus encoders, the general filter and <sw>", 0},
+    {"braking", "inc_counter_brake", S_BRAKING, "counter, linear, the tick's own brake, K only", 0},
+    {"encoder_loss", "inc_ext", S_LOSS, "VMEbus encoders, all four failing: encoder error, disabled", 0},
+    {"ext_table", "inc_counter", S_MOVING, "as moving: the extensions work after the tick", 0},
+    {"ext_compare", "inc_counter", S_MOVING, "as moving", 0},
+    {"ext_feedback", "inc_counter", S_MOVING, "as moving", 0},
 };
 #else
 static const routine_t routines[] = {
@@ -916,16 +1163,16 @@ static const routine_t routines[] = {
     {"ssi_ext", gen_R_EXT, compare, 1, NULL},
 };
 static const scenario_t scenarios[] = {
-    {"moving", "ssi_abs", S_MOVING, "SSI absolute, linear (MK_SSI_ABS), Gray, K only"},
-    {"circular", "ssi_rel_circ", S_CIRCULAR, "SSI absolute, circular (MK_SSI), Gray, K only"},
-    {"full", "ssi_rel_circ", S_FULL, "SSI absolute, circular, Gray, the general filter and <sw>"},
-    {"external", "ssi_ext", S_MOVING, "VMEbus encoders (<et> 4, 24 bits), linear, K only"},
-    {"external_full", "ssi_ext", S_FULL, "VMEbus encoders, the general filter and <sw>"},
-    {"braking", "ssi_abs_brake", S_BRAKING, "SSI absolute, linear, the tick's own brake, K only"},
-    {"encoder_loss", "ssi_ext", S_LOSS, "VMEbus encoders, all four failing: encoder error, disabled"},
-    {"ext_table", "ssi_rel", S_REL_LINEAR, "SSI absolute followed as relative (MK_SSI), linear, K only"},
-    {"ext_compare", "ssi_abs", S_MOVING, "as moving"},
-    {"ext_feedback", "ssi_rel", S_REL_LINEAR, "as ext_table"},
+    {"moving", "ssi_abs", S_MOVING, "SSI absolute, linear (MK_SSI_ABS), Gray, K only", 0},
+    {"circular", "ssi_rel_circ", S_CIRCULAR, "SSI absolute, circular (MK_SSI), Gray, K only", 0},
+    {"full", "ssi_rel_circ", S_FULL, "SSI absolute, circular, Gray, the general filter and <sw>", 0},
+    {"external", "ssi_ext", S_MOVING, "VMEbus encoders (<et> 4, 24 bits), linear, K only", 0},
+    {"external_full", "ssi_ext", S_FULL, "VMEbus encoders, the general filter and <sw>", 0},
+    {"braking", "ssi_abs_brake", S_BRAKING, "SSI absolute, linear, the tick's own brake, K only", 0},
+    {"encoder_loss", "ssi_ext", S_LOSS, "VMEbus encoders, all four failing: encoder error, disabled", 0},
+    {"ext_table", "ssi_rel", S_REL_LINEAR, "SSI absolute followed as relative (MK_SSI), linear, K only", 0},
+    {"ext_compare", "ssi_abs", S_MOVING, "as moving", 0},
+    {"ext_feedback", "ssi_rel", S_REL_LINEAR, "as ext_table", 0},
 };
 #endif
 
@@ -933,4 +1180,4 @@ static const module_t tick_module = {
     MAC4_CARD == MAC4_CARD_INC ? "inc" : "ssi", "tick", routines, sizeof routines / sizeof routines[0],
     scenarios, sizeof scenarios / sizeof scenarios[0],
 };
-const module_t *const floor_modules[] = {&tick_module, &sup_module, NULL};
+const module_t *const floor_modules[] = {&tick_module, &sup_module, &cmd_module, NULL};

@@ -544,17 +544,17 @@ static const routine_t routines[] = {
     {"stp_ext_still", gen_ext, compare, 1, NULL},
 };
 static const scenario_t scenarios[] = {
-    {"moving", "stp_counter", S_MOVING, "the step counter, positioning at 2000 steps/s: the rate of the segment"},
-    {"creep", "stp_counter_start", S_START, "the step counter, four moves starting: a new direction"},
-    {"braking", "stp_counter_brake", S_BRAKING, "the step counter, the tick's brake at rest: the trim"},
+    {"moving", "stp_counter", S_MOVING, "the step counter, positioning at 2000 steps/s: the rate of the segment", 0},
+    {"creep", "stp_counter_start", S_START, "the step counter, four moves starting: a new direction", 0},
+    {"braking", "stp_counter_brake", S_BRAKING, "the step counter, the tick's brake at rest: the trim", 0},
     {"external", "stp_ext_still", S_STANDSTILL,
-     "VMEbus encoders (<et> 4, 24 bits, increments), the axes standing: the rate to 0"},
-    {"encoder_loss", "stp_ext", S_MOVING, "VMEbus encoders, positioning (the worst tick comes before the boards go)"},
-    {"encoder", "stp_encoder", S_ENCODER, "the encoder on the motor (<et> 1): increments to steps, positioning"},
-    {"ext_table", "stp_counter", S_MOVING, "as moving: the extensions work after the tick"},
-    {"ext_compare", "stp_counter", S_MOVING, "as moving"},
-    {"ext_feedback", "stp_counter", S_MOVING, "as moving"},
-    {"ext", "stp_counter", S_MOVING, "as moving"},
+     "VMEbus encoders (<et> 4, 24 bits, increments), the axes standing: the rate to 0", 0},
+    {"encoder_loss", "stp_ext", S_MOVING, "VMEbus encoders, positioning (the worst tick comes before the boards go)", 0},
+    {"encoder", "stp_encoder", S_ENCODER, "the encoder on the motor (<et> 1): increments to steps, positioning", 0},
+    {"ext_table", "stp_counter", S_MOVING, "as moving: the extensions work after the tick", 0},
+    {"ext_compare", "stp_counter", S_MOVING, "as moving", 0},
+    {"ext_feedback", "stp_counter", S_MOVING, "as moving", 0},
+    {"ext", "stp_counter", S_MOVING, "as moving", 0},
 };
 
 static const module_t tick_module = {

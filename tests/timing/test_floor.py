@@ -80,19 +80,23 @@ MUTANTS = [
     ("inc_supervise", "the LED of pos_end", r"or\.w    #\(SYS_LED_P", "or.w    #(SYS_LED_D"),
     ("inc_supervise", "RED of the counter path", r"move\.l  SV_COUNTER\(%a0\),SV_RAW\(%a0\)", "nop"),
     ("ssi_supervise", "the Gray bit of the inputs", r"btst    #5,%d0", "btst    #4,%d0"),
+    ("inc_cmd", "the queue's wrap (rear)", r"cmp\.w   #Q_NEL,%d2", "cmp.w   #Q_NEL+1,%d2"),
+    ("inc_cmd", "a corrupt header counted once", r"move\.b  #1,FLOOR_CARD\+CD_QBAD", "nop"),
+    ("inc_cmd", "a full response queue", r"cmp\.w   %d2,%d1", "cmp.w   %d1,%d1"),
 ]
 
 
 @pytest.mark.parametrize("routine,what,pattern,repl", MUTANTS, ids=[m[1] for m in MUTANTS])
 def test_the_check_catches_a_changed_routine(tmp_path, routine, what, pattern, repl):
     card = routine.split("_")[0]
-    part = "sup.inc" if routine.endswith("_supervise") else "stp.inc" if card == "stp" else "servo.inc"
+    part = ("sup.inc" if routine.endswith("_supervise") else "cmd.inc" if routine.endswith("_cmd")
+            else "stp.inc" if card == "stp" else "servo.inc")
     src = open(os.path.join(FLOOR_SRC, part)).read()
     mutated, n = re.subn(pattern, lambda m: repl, src, count=1)
     assert n == 1, "the mutant's pattern is no longer in %s: %s" % (part, pattern)
     inc = tmp_path / "inc"
     inc.mkdir()
-    for f in ("floor.h", "servo.inc", "stp.inc", "sup.inc"):
+    for f in ("floor.h", "servo.inc", "stp.inc", "sup.inc", "cmd.inc"):
         shutil.copy(os.path.join(FLOOR_SRC, f), inc / f)
     (inc / part).write_text(mutated)
     binf = assemble(str(tmp_path), str(inc), routine)
