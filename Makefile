@@ -13,7 +13,8 @@
 #   make debug-identical  the EPROM bytes do not depend on -g
 #   make differential  native build against the EPROM image, tick for tick
 #   make timing        the hard deadlines (tests/timing)
-#   make bench         emulator speed, the cycle figures beside their aims, build/perf.json
+#   make bench         emulator speed, the cycle figures beside their aims and floors, build/perf.json
+#   make floor         the floor routines and build/floor/floorrun-CARD (bench/floor/README.md)
 #   make native        build/mac4sim-native-CARD: the firmware compiled for the host
 #   make board         regenerate hal/mac4_map.h, harness/bus_map.h, host/mac4card/board.py
 #   make docs          regenerate docs/commands.md from firmware/commands.def
