@@ -212,7 +212,18 @@
 #define ST_EADDR        0xB0    /* l  addr */
 #define ST_PAGE         0xB4    /* w  page */
 #define ST_DKIND        0xB6    /* b  floor: measure_delta's case (as SV_DKIND) */
-#define ST_END          0xBC
+/* the creep phase (stp_rate.c creep_tick, creep_begin, creep_stop; motion_hold) */
+#define ST_TARGET       0xBC    /* 8  target (Q16; bits 16-47 at +2) */
+#define ST_CREEPBASE    0xC4    /* l  stp creep_base */
+#define ST_CREEPN       0xC8    /* w  stp creep_n */
+#define ST_COUNTED      0xCA    /* w  stp counted */
+#define ST_HWDONE       0xCC    /* b  stp hw_done */
+#define ST_CREEPDIR     0xCD    /* b  stp creep_dir */
+#define ST_CREEPIRQ     0xCE    /* b  stp creep_irq */
+#define ST_MKX          0xCF    /* b  mk */
+#define ST_IN           0xD0    /* w  in (the supervision's last AX_IN) */
+#define ST_PROFPOS      0xD4    /* 8  prof.pos */
+#define ST_END          0xDC
 
 /* ---- the firmware's constants the routines need, as numbers (the C
  * runner asserts each against its definition: ref_servo.c) ------------- */
@@ -236,7 +247,14 @@
 #define FL_OUT_MIN      (-2048)
 #define FL_M_POSITIONING 8
 #define FL_CREEP_IDLE   0       /* stp_card.h CREEP_* */
+#define FL_CREEP_REQ    1
+#define FL_CREEP_WAIT   2
+#define FL_CREEP_RUN    3
+#define FL_CREEP_DONE   4
 #define FL_CREEP_TRIM   5
+#define FL_PULSE_IRQ_MAX_RATE 1311      /* stp_rate.c PULSE_IRQ_MAX_RATE, _TURBO */
+#define FL_PULSE_IRQ_MAX_RATE_TURBO 131
+#define FL_STP_TICK_CLOCKS 400          /* stepper.h STP_TICK_CLOCKS */
 #define FL_TRIM_MAX     3       /* stp_rate.c TRIM_MAX */
 #define FL_M_SEARCH_IDX_C 2
 #define FL_M_HOME       4

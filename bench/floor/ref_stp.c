@@ -26,7 +26,9 @@
 #error "ref_stp.c is the STP tick"
 #endif
 
-_Static_assert(STP_OBITS == FL_STP_OBITS && M_POSITIONING == FL_M_POSITIONING && CREEP_IDLE == FL_CREEP_IDLE && CREEP_TRIM == FL_CREEP_TRIM,
+_Static_assert(STP_TICK_CLOCKS == FL_STP_TICK_CLOCKS && STP_OBITS == FL_STP_OBITS && M_POSITIONING == FL_M_POSITIONING && CREEP_IDLE == FL_CREEP_IDLE &&
+               CREEP_REQ == FL_CREEP_REQ && CREEP_WAIT == FL_CREEP_WAIT && CREEP_RUN == FL_CREEP_RUN &&
+               CREEP_DONE == FL_CREEP_DONE && CREEP_TRIM == FL_CREEP_TRIM,
                "floor.h's numbers are the firmware's");
 _Static_assert(M_DISABLE == FL_M_DISABLE && M_TEST == FL_M_TEST && MK_COUNTER == FL_MK_COUNTER &&
                MK_OTHER == FL_MK_OTHER && MK_NONE == FL_MK_NONE && EXT_VME32 == FL_EXT_VME32 &&
@@ -59,8 +61,8 @@ void axis_set_pos(unsigned n) { (void)n; }
 static int vme_irqs;
 void vme_irq(uint8_t vector) { vme_irqs += vector != 0; }   /* the DPRAM path only: never in these inputs */
 
-/* motion.c motion_hold (STP), for stp_creep_abort: never reached by these
- * inputs (no creep phase), restated so that stp_rate.c links */
+/* motion.c motion_hold (STP), for stp_creep_abort, restated (motion.c
+ * brings the whole motion code) */
 void motion_hold(unsigned n)
 {
     axis_t *x = axis_at[n];
@@ -310,6 +312,16 @@ static void pack(void)
         w32(n, ST_EADDR, c->addr);
         w16(n, ST_PAGE, c->page);
         w8(n, ST_DKIND, c->abs ? (x->linear ? 0 : 1) : 2);             /* floor: at INIT */
+        w64(n, ST_TARGET, x->target);
+        w32(n, ST_CREEPBASE, (uint32_t)s->creep_base);
+        w16(n, ST_CREEPN, s->creep_n);
+        w16(n, ST_COUNTED, s->counted);
+        w8(n, ST_HWDONE, s->hw_done);
+        w8(n, ST_CREEPDIR, (uint8_t)s->creep_dir);
+        w8(n, ST_CREEPIRQ, s->creep_irq);
+        w8(n, ST_MKX, x->mk);
+        w16(n, ST_IN, x->in);
+        w64(n, ST_PROFPOS, x->prof.pos);
     }
 }
 
@@ -330,13 +342,16 @@ static const field_t fields[] = {
     {ST_STOPSETTLE, 1, "stop_settle"}, {ST_NEXTMODE, 1, "next_mode"}, {ST_PATH, 1, "path"}, {ST_ABS, 1, "abs"},
     {ST_FAILED, 1, "failed"}, {ST_MASK, 4, "mask"}, {ST_MLIM, 4, "lim"}, {ST_RANGE, 4, "range"},
     {ST_HALF, 4, "half"}, {ST_SIGN, 4, "sign"}, {ST_EADDR, 4, "addr"}, {ST_PAGE, 2, "page"},
-    {ST_DKIND, 1, "delta kind"},
+    {ST_DKIND, 1, "delta kind"}, {ST_TARGET, 8, "target"}, {ST_CREEPBASE, 4, "stp.creep_base"},
+    {ST_CREEPN, 2, "stp.creep_n"}, {ST_COUNTED, 2, "stp.counted"}, {ST_HWDONE, 1, "stp.hw_done"},
+    {ST_CREEPDIR, 1, "stp.creep_dir"}, {ST_CREEPIRQ, 1, "stp.creep_irq"}, {ST_MKX, 1, "mk"}, {ST_IN, 2, "in"},
+    {ST_PROFPOS, 8, "prof.pos"},
 };
 
 /* ---- inputs ------------------------------------------------------------------ */
 enum { R_COUNTER, R_EXT };
 static int routine_kind;
-enum { S_MOVING, S_START, S_BRAKING, S_STANDSTILL, S_ENCODER };
+enum { S_MOVING, S_START, S_BRAKING, S_STANDSTILL, S_ENCODER, S_CREEP };
 static int32_t near(int32_t base, int32_t span) { return pos_add(base, rnd_range(-span, span)); }
 static uint32_t eb_mask(int eb) { return eb >= 32 ? 0xFFFFFFFFu : ((1u << eb) - 1u); }
 
@@ -414,7 +429,31 @@ static void gen_axis(unsigned n, int scen)
     s->boost = (uint8_t)(broad ? rnd_pct(50) : 1);
     s->boost_en = (uint8_t)(broad ? rnd_pct(50) : 1);
     s->active = (uint8_t)(broad ? rnd_pct(50) : 1);
-    s->creep = CREEP_IDLE;                 /* the creep phase: not in these routines */
+    s->creep = CREEP_IDLE;
+    x->mk = routine_kind == R_COUNTER ? MK_COUNTER : MK_OTHER;
+    x->in = (uint16_t)rnd();
+    x->prof.pos = (int64_t)((uint64_t)rnd() << 32 | rnd());
+    x->target = ((int64_t)x->meas << 16) + (int64_t)(uint16_t)rnd();
+    s->creep_base = near(x->meas, 50);
+    s->creep_dir = (int8_t)(rnd_pct(50) ? 1 : -1);
+    s->creep_n = (uint16_t)rnd_below(100);
+    s->counted = (uint16_t)(broad && rnd_pct(10) ? rnd() : rnd_below((uint32_t)s->creep_n + 1u));
+    s->hw_done = (uint8_t)(broad && rnd_pct(20));
+    s->creep_irq = (uint8_t)rnd_below(2);
+    if (broad && rnd_pct(30)) {             /* the creep phase: requested, waiting, running, done; the trim */
+        static const uint8_t cs[] = {CREEP_REQ, CREEP_WAIT, CREEP_RUN, CREEP_RUN, CREEP_DONE, CREEP_TRIM};
+        s->creep = cs[rnd_below(sizeof cs)];
+        x->target += (int64_t)rnd_range(-300, 300) << 16;
+        if (rnd_pct(70))
+            x->mode = M_POSITIONING, x->stop_then = 0;
+        x->ustat = (x->ustat & ~US_MODE_MASK) | x->mode;
+        x->ctrl = (uint16_t)((x->ctrl & ~AX_CTRL_EN) | (x->mode != M_DISABLE ? AX_CTRL_EN : 0));
+    }
+    if (scen == S_CREEP) {                  /* the ramp has ended: <stc> 20 steps to go at <lv> 100 Hz */
+        s->creep = CREEP_REQ;
+        x->target = ((int64_t)(x->meas + sign * 20) << 16) + 0x4000;
+        s->lv_rate = 131;
+    }
     int conv = broad ? rnd_pct(40) : scen == S_ENCODER || routine_kind == R_EXT;
     s->ratio = conv ? (uint32_t)(broad ? rnd_range(0x1000, 0x80000) : 0x2000) : 0x10000u;   /* <ms> 500 / (4 <es> 1000) */
     s->inc = broad ? rnd_range(-(1 << 24), 1 << 24) : x->meas * 8;
@@ -448,6 +487,11 @@ static void gen_axis(unsigned n, int scen)
         if (!x->linear && broad && x->cr < 40000)
             d = (int16_t)rnd_range(-x->cr, x->cr);
         m_wr16(AX_REG(n, AX_CNT_LIVE), (uint16_t)(x->counter + (uint32_t)d));
+        /* the whole counter as creep_begin re-reads it: where the tick left it, a step on or so */
+        uint32_t c = (x->counter + (uint32_t)(int16_t)(uint16_t)(m_rd16(AX_REG(n, AX_CNT_LIVE)) - (uint16_t)x->counter) +
+                      (uint32_t)(broad ? rnd_range(-2, 2) : 0)) & 0xFFFFFFu;
+        m_wr16(AX_REG(n, AX_CNT_HI), (uint16_t)(c >> 16));
+        m_wr16(AX_REG(n, AX_CNT_LO), (uint16_t)c);
     } else {
         x->mk_tick = mine ? MK_OTHER : MK_NONE;
         int eb = broad ? (int)rnd_range(17, 32) : 24;
@@ -542,10 +586,13 @@ static const routine_t routines[] = {
     {"stp_encoder", gen_counter, compare, 1, NULL},
     {"stp_ext", gen_ext, compare, 1, NULL},
     {"stp_ext_still", gen_ext, compare, 1, NULL},
+    {"stp_counter_creep", gen_counter, compare, 1, NULL},
 };
 static const scenario_t scenarios[] = {
     {"moving", "stp_counter", S_MOVING, "the step counter, positioning at 2000 steps/s: the rate of the segment", 0},
     {"creep", "stp_counter_start", S_START, "the step counter, four moves starting: a new direction", 0},
+    {"creep_starts", "stp_counter_creep", S_CREEP,
+     "the step counter, four creep phases beginning at the SP boundary: the missing steps to the pulse counter", 0},
     {"braking", "stp_counter_brake", S_BRAKING, "the step counter, the tick's brake at rest: the trim", 0},
     {"external", "stp_ext_still", S_STANDSTILL,
      "VMEbus encoders (<et> 4, 24 bits, increments), the axes standing: the rate to 0", 0},
