@@ -220,10 +220,22 @@
 #define ST_HWDONE       0xCC    /* b  stp hw_done */
 #define ST_CREEPDIR     0xCD    /* b  stp creep_dir */
 #define ST_CREEPIRQ     0xCE    /* b  stp creep_irq */
-#define ST_MKX          0xCF    /* b  mk */
+#define ST_MKSUP        0xCF    /* b  mk */
 #define ST_IN           0xD0    /* w  in (the supervision's last AX_IN) */
 #define ST_PROFPOS      0xD4    /* 8  prof.pos */
-#define ST_END          0xDC
+/* the rest of axis_t the supervision (card_supervise_tick) reads and writes */
+#define ST_SSTAT        0xDC    /* l  sstat */
+#define ST_VEL          0xE0    /* l  vel */
+#define ST_MEASSUP      0xE4    /* l  meas_sup */
+#define ST_MF           0xE8    /* l  mf */
+#define ST_LP           0xEC    /* l  lp */
+#define ST_LN           0xF0    /* l  ln */
+#define ST_SWEN         0xF4    /* w  sw_en */
+#define ST_SWINV        0xF6    /* w  sw_inv */
+#define ST_INEVAL       0xF8    /* b  in_eval */
+#define ST_IDXSEEN      0xF9    /* b  idx_seen */
+#define ST_DF           0xFA    /* b  PAR(n, DF) */
+#define ST_END          0xFB
 
 /* ---- the firmware's constants the routines need, as numbers (the C
  * runner asserts each against its definition: ref_servo.c) ------------- */
@@ -254,7 +266,8 @@
 #define FL_CREEP_TRIM   5
 #define FL_PULSE_IRQ_MAX_RATE 1311      /* stp_rate.c PULSE_IRQ_MAX_RATE, _TURBO */
 #define FL_PULSE_IRQ_MAX_RATE_TURBO 131
-#define FL_STP_TICK_CLOCKS 400          /* stepper.h STP_TICK_CLOCKS */
+#define FL_STP_TICK_CLOCKS 400          /* stepper.h STP_TICK_CLOCKS, _TURBO */
+#define FL_STP_TICK_CLOCKS_TURBO 4000
 #define FL_TRIM_MAX     3       /* stp_rate.c TRIM_MAX */
 #define FL_M_SEARCH_IDX_C 2
 #define FL_M_HOME       4
@@ -266,6 +279,7 @@
 #define FL_US_SWL_N     21
 #define FL_US_SWL_P     22
 #define FL_US_REF       23
+#define FL_US_ERRORS    ((1 << 13) + (1 << 14) + (1 << 15) + (1 << 16) + (1 << 17) + (1 << 18))   /* status.h US_ERRORS */
 #define FL_OS_FCODE0    3       /* status.def OSTAT(FCODE0) */
 #define FL_CK_READ      4       /* cmd_table.h CK_*: kind >= CK_READ is a read */
 #define FL_CK_DIAG      6

@@ -5,7 +5,7 @@ FLOOR_DIR  := $(B)/floor
 FLOOR_ASM  := $(wildcard bench/floor/*.S)
 FLOOR_BINS := $(patsubst bench/floor/%.S,$(FLOOR_DIR)/%.bin,$(FLOOR_ASM))
 FLOOR_INC  := $(wildcard bench/floor/*.inc) bench/floor/floor.h hal/mac4_map.h
-FLOOR_CARDS := inc ssi stp
+FLOOR_CARDS := $(CARDS)
 FLOOR_RUNS := $(foreach c,$(FLOOR_CARDS),$(FLOOR_DIR)/floorrun-$(c))
 
 .PHONY: floor

@@ -19,6 +19,10 @@
 #include "measure.h"
 #include "stepper.h"
 #include "stp_card.h"
+#include "motion.h"
+#include "cmd.h"
+#include "cmd_table.h"
+#include <stddef.h>
 #include "floor.h"
 #include "floorrun.h"
 
@@ -26,7 +30,8 @@
 #error "ref_stp.c is the STP tick"
 #endif
 
-_Static_assert(STP_TICK_CLOCKS == FL_STP_TICK_CLOCKS && STP_OBITS == FL_STP_OBITS && M_POSITIONING == FL_M_POSITIONING && CREEP_IDLE == FL_CREEP_IDLE &&
+_Static_assert(US_ERRORS == FL_US_ERRORS && STP_TICK_CLOCKS_TURBO == FL_STP_TICK_CLOCKS_TURBO &&
+               STP_TICK_CLOCKS == FL_STP_TICK_CLOCKS && STP_OBITS == FL_STP_OBITS && M_POSITIONING == FL_M_POSITIONING && CREEP_IDLE == FL_CREEP_IDLE &&
                CREEP_REQ == FL_CREEP_REQ && CREEP_WAIT == FL_CREEP_WAIT && CREEP_RUN == FL_CREEP_RUN &&
                CREEP_DONE == FL_CREEP_DONE && CREEP_TRIM == FL_CREEP_TRIM,
                "floor.h's numbers are the firmware's");
@@ -46,6 +51,18 @@ uint32_t card_ostat;
 uint16_t card_err_report;
 stp_t stp_ax[MAC4_NAXES];
 uint8_t stp_conv;
+/* card.c's statics of the supervision, cmd.c's and serial.c's counters it
+ * publishes, ext.c's switch; the command path's (cmd.c, serial.c, motion.c) */
+uint32_t card_supervised;
+uint16_t card_supervise_late;
+static uint8_t estop_seen, ext_on;
+volatile uint8_t vme_irq_waiting;
+static uint32_t virq_lost, n_commands, n_rsp_lost, n_queue_errors, serial_stats[8];
+static uint8_t serial_rx_work, serial_fifo_count, wd_fired, n_held, turn, queue_bad, last_valid_axis, irq12;
+uint8_t cmd_mr;
+uint8_t motion_vq_due;
+static int32_t par_wd;
+static int beyond;
 
 /* stepper.c */
 int32_t stp_counts(unsigned n)
@@ -244,6 +261,18 @@ static void pack(void)
     m_wr16(FLOOR_CARD + CD_LATE, card_profile_late);
     m_wr8(FLOOR_CARD + CD_DUE, card_profile_due);
     m_wr8(FLOOR_CARD + CD_STPCONV, stp_conv);
+    m_wr8(FLOOR_CARD + CD_ESTOP, estop_seen);
+    m_wr8(FLOOR_CARD + CD_EXTON, ext_on);
+    m_wr8(FLOOR_CARD + CD_VIRQWAIT, vme_irq_waiting);
+    m_wr16(FLOOR_CARD + CD_SUPLATE, card_supervise_late);
+    m_wr32(FLOOR_CARD + CD_SUPERVISED, card_supervised);
+    m_wr32(FLOOR_CARD + CD_OSTAT, card_ostat);
+    m_wr32(FLOOR_CARD + CD_VIRQLOST, virq_lost);
+    m_wr32(FLOOR_CARD + CD_NCMD, n_commands);
+    m_wr32(FLOOR_CARD + CD_RSPLOST, n_rsp_lost);
+    m_wr32(FLOOR_CARD + CD_QERR, n_queue_errors);
+    for (unsigned i = 0; i < 8; i++)
+        m_wr32(FLOOR_CARD + CD_SERSTATS + 4 * i, serial_stats[i]);
     for (unsigned n = 0; n < MAC4_NAXES; n++) {
         const axis_t *x = &axes[n];
         const stp_t *s = &stp_ax[n];
@@ -319,9 +348,20 @@ static void pack(void)
         w8(n, ST_HWDONE, s->hw_done);
         w8(n, ST_CREEPDIR, (uint8_t)s->creep_dir);
         w8(n, ST_CREEPIRQ, s->creep_irq);
-        w8(n, ST_MKX, x->mk);
+        w8(n, ST_MKSUP, x->mk);
         w16(n, ST_IN, x->in);
         w64(n, ST_PROFPOS, x->prof.pos);
+        w32(n, ST_SSTAT, x->sstat);
+        w32(n, ST_VEL, (uint32_t)x->vel);
+        w32(n, ST_MEASSUP, (uint32_t)x->meas_sup);
+        w32(n, ST_MF, (uint32_t)x->mf);
+        w32(n, ST_LP, (uint32_t)x->lp);
+        w32(n, ST_LN, (uint32_t)x->ln);
+        w16(n, ST_SWEN, x->sw_en);
+        w16(n, ST_SWINV, x->sw_inv);
+        w8(n, ST_INEVAL, x->in_eval);
+        w8(n, ST_IDXSEEN, x->idx_seen);
+        w8(n, ST_DF, (uint32_t)PAR(n, DF));
     }
 }
 
@@ -344,8 +384,10 @@ static const field_t fields[] = {
     {ST_HALF, 4, "half"}, {ST_SIGN, 4, "sign"}, {ST_EADDR, 4, "addr"}, {ST_PAGE, 2, "page"},
     {ST_DKIND, 1, "delta kind"}, {ST_TARGET, 8, "target"}, {ST_CREEPBASE, 4, "stp.creep_base"},
     {ST_CREEPN, 2, "stp.creep_n"}, {ST_COUNTED, 2, "stp.counted"}, {ST_HWDONE, 1, "stp.hw_done"},
-    {ST_CREEPDIR, 1, "stp.creep_dir"}, {ST_CREEPIRQ, 1, "stp.creep_irq"}, {ST_MKX, 1, "mk"}, {ST_IN, 2, "in"},
-    {ST_PROFPOS, 8, "prof.pos"},
+    {ST_CREEPDIR, 1, "stp.creep_dir"}, {ST_CREEPIRQ, 1, "stp.creep_irq"}, {ST_MKSUP, 1, "mk"}, {ST_IN, 2, "in"},
+    {ST_PROFPOS, 8, "prof.pos"}, {ST_SSTAT, 4, "sstat"}, {ST_VEL, 4, "vel"}, {ST_MEASSUP, 4, "meas_sup"},
+    {ST_MF, 4, "mf"}, {ST_LP, 4, "lp"}, {ST_LN, 4, "ln"}, {ST_SWEN, 2, "sw_en"}, {ST_SWINV, 2, "sw_inv"},
+    {ST_INEVAL, 1, "in_eval"}, {ST_IDXSEEN, 1, "idx_seen"}, {ST_DF, 1, "df"},
 };
 
 /* ---- inputs ------------------------------------------------------------------ */
@@ -579,6 +621,426 @@ static void gen_ext(int scen)
     gen(scen);
 }
 
+/* ---- the supervision after a tick (card.c card_supervise_tick, STP), on
+ * the path of its floor routine (sup.inc) ---------------------------------- */
+static const uint32_t sw_ustat[8] = {
+    0, UB(HWL_P), UB(HWL_N), UB(HWL_P) | UB(HWL_N), UB(REF), UB(REF) | UB(HWL_P),
+    UB(REF) | UB(HWL_N), UB(REF) | UB(HWL_P) | UB(HWL_N),
+};
+
+static void axis_inputs(unsigned n)
+{
+    axis_t *x = &axes[n];
+    uint16_t in = hal_rd16(AX_REG(n, AX_IN));
+    if (in == x->in && !x->in_eval)
+        return;
+    x->in = in;
+    x->in_eval = 0;
+    if (!axis_initialised(n))
+        return;
+    uint16_t active = (uint16_t)((in ^ x->sw_inv) & x->sw_en);
+    x->in_eval = (active & AX_IN_DF) != 0;
+    uint32_t sw = sw_ustat[active & 7u];
+    uint32_t prev = x->ustat;
+    x->ustat = (x->ustat & ~(UB(HWL_P) | UB(HWL_N) | UB(REF))) | sw;
+    if ((active & AX_IN_DF) && x->mode != M_DISABLE && !(x->ustat & UB(DR_F)))
+        beyond = 1;
+    if (x->mode == M_TEST && (sw & ~prev & (UB(HWL_P) | UB(HWL_N))))
+        beyond = 1;
+}
+
+static void supervise_axis(unsigned n)
+{
+    unsigned prev = hal_irq_save();
+    axis_t *x = &axes[n];
+    if (x->mk_tick != MK_NONE)
+        x->vel = x->meas - x->meas_sup;
+    if (x->mk_tick == MK_COUNTER)
+        x->raw = x->counter;
+    x->meas_sup = x->meas;
+    x->mk_tick = (x->ustat & UB(INIT)) ? x->mk : MK_NONE;
+    axis_inputs(n);
+    if (!motion_quiet(x))
+        beyond = 1;
+    hal_irq_restore(prev);
+}
+
+static void publish(unsigned n)
+{
+    const axis_t *x = &axes[n];
+    uint32_t d = DP_AXIS_DATA(n);
+    hal_wr32(d + DPA_USTAT, x->ustat);
+    hal_wr32(d + DPA_SSTAT, x->sstat);
+    hal_wr32(d + DPA_POS, (uint32_t)x->pos);
+    hal_wr32(d + DPA_SETPOINT, (uint32_t)pos_add(x->pos, x->ferr));
+    hal_wr32(d + DPA_FERR, (uint32_t)x->ferr);
+    hal_wr32(d + DPA_OUT, (uint32_t)stp_hz_now(n));
+    hal_wr32(d + DPA_VEL, (uint32_t)x->vel);
+    hal_wr32(d + DPA_RAW, x->raw);
+}
+
+static void leds(void)
+{
+    uint16_t l = 0;
+    for (unsigned n = 0; n < MAC4_NAXES; n++) {
+        const axis_t *x = &axes[n];
+        if (x->mode == M_DISABLE)
+            l |= (uint16_t)(SYS_LED_D << SYS_LED_SHIFT(n));
+        if (x->ustat & UB(POS_END))
+            l |= (uint16_t)(SYS_LED_P << SYS_LED_SHIFT(n));
+        int32_t df = PAR(n, DF);
+        int df_on = df != 0 && (((hal_rd16(AX_REG(n, AX_IN)) & AX_IN_DF) != 0) ^ (df == 2));
+        if (df_on || (x->ustat & US_ERRORS))
+            l |= (uint16_t)(SYS_LED_F << SYS_LED_SHIFT(n));
+    }
+    hal_wr16(SYS_LEDS, l);
+}
+
+static void card_supervise_tick_ref(void)
+{
+    uint32_t t = card_ticks;
+    if (t == card_supervised)
+        return;
+    if (t - card_supervised > 1u)
+        card_supervise_late++;
+    card_supervised = t;
+    uint16_t sys = hal_rd16(SYS_STATUS);
+    card_ostat = (card_ostat & ~(uint32_t)(OB(FCODE0) | OB(FCODE1) | OB(FCODE2))) |
+                 ((uint32_t)((sys >> SYS_ST_FC_SHIFT) & 7u) << OS_FCODE0);
+    if (estop_seen)
+        beyond = 1;
+    unsigned phase = (t - 1u) & (PROFILE_DIVIDER - 1u);
+    for (unsigned n = 0; n < MAC4_NAXES; n++)
+        supervise_axis(n);
+    uint16_t w = hal_rd16(DP_STOP_BITS);
+    if ((w | (w >> 8)) & 0xAAu)
+        beyond = 1;
+    if (ext_on)
+        beyond = 1;
+    unsigned prev = hal_irq_save();
+    publish(phase);
+    hal_irq_restore(prev);
+    if (phase == 0)
+        leds();
+    hal_wr32(DPC_TICKS, t);
+    hal_wr32(DPC_OSTAT, card_ostat);
+    hal_wr32(DPC_PROFILE_LATE, card_profile_late);
+    hal_wr32(DPC_SUPERVISE_LATE, card_supervise_late);
+    hal_wr32(DPC_VME_IRQ_LOST, virq_lost);
+    hal_wr32(DPC_COMMANDS, n_commands);
+    hal_wr32(DPC_RSP_LOST, n_rsp_lost);
+    hal_wr32(DPC_QUEUE_ERRORS, n_queue_errors);
+    unsigned i = 2u * (phase & 3u);
+    hal_wr32(DPC_SERIAL_RX_OK + 4u * i, serial_stats[i]);
+    hal_wr32(DPC_SERIAL_RX_OK + 4u * (i + 1u), serial_stats[i + 1u]);
+    if (vme_irq_waiting)
+        beyond = 1;
+}
+
+static void gen_sup(int scen)
+{
+    routine_kind = R_COUNTER;
+    gen(scen < 0 ? -1 : S_MOVING);
+    int broad = scen < 0;
+    for (unsigned n = 0; n < MAC4_NAXES; n++) {
+        axis_t *x = &axes[n];
+        x->braking = 0;
+        x->ustat &= ~(UB(HWL_P) | UB(HWL_N) | UB(SWL_P) | UB(SWL_N) | UB(POS_END));
+        x->ustat |= broad && rnd_pct(50) ? UB(POS_END) : 0;
+        x->ustat &= broad && rnd_pct(10) ? ~UB(INIT) : ~0u;
+        x->ustat &= broad && rnd_pct(70) ? ~US_ERRORS : ~0u;
+        x->sstat = rnd();
+        x->mk = MK_COUNTER;
+        x->mk_tick = broad && rnd_pct(15) ? MK_NONE : MK_COUNTER;
+        x->meas_sup = broad ? (int32_t)rnd() : x->meas - 16;
+        x->vel = (int32_t)rnd();
+        x->setpoint = pos_add(x->meas, rnd_range(-3, 3));
+        x->ferr = pos_sub(x->setpoint, x->meas);
+        x->stop_settle = 0;
+        int32_t af = x->ferr < 0 ? -x->ferr : x->ferr;
+        x->mf = af + (broad ? (int32_t)rnd_below(3) * (rnd_pct(50) ? 1 : 1000) : 1000);
+        x->lp = pos_add(x->pos, broad ? (int32_t)rnd_below(3) * (rnd_pct(50) ? 1 : 100000) : 100000);
+        x->ln = pos_sub(x->pos, broad ? (int32_t)rnd_below(3) * (rnd_pct(50) ? 1 : 100000) : 100000);
+        if (x->lp < x->pos || x->ln > x->pos) {
+            x->lp = INT32_MAX;
+            x->ln = INT32_MIN;
+        }
+        x->sw_en = (uint16_t)((broad ? rnd() : 0xF) & (AX_IN_IESP | AX_IN_IESN | AX_IN_RS | AX_IN_DF));
+        x->sw_inv = (uint16_t)(rnd() & x->sw_en);
+        uint16_t in = (uint16_t)(rnd() & 0x7FF & ~AX_IN_SSI_BUSY);
+        in = (uint16_t)((in & ~(AX_IN_IESP | AX_IN_IESN | AX_IN_DF)) | (x->sw_inv & (AX_IN_IESP | AX_IN_IESN | AX_IN_DF)));
+        int same = broad ? rnd_pct(40) : 1;          /* the STP's steps: no index pulse */
+        x->in = same ? in : (uint16_t)(in ^ AX_IN_IDX);
+        x->in_eval = (uint8_t)(broad && rnd_pct(20));
+        m_wr16(AX_REG(n, AX_IN), in);
+        x->idx_seen = (uint8_t)(x->mode == M_SEARCH_IDX_C || x->mode == M_SEARCH_IDX || x->mode == M_HOME ||
+                                rnd_pct(50));
+        par_a[P_DF][n] = (int32_t)rnd_below(3);
+    }
+    card_supervised = card_ticks - (broad ? (rnd_pct(10) ? 0 : rnd_pct(20) ? rnd_range(2, 5) : 1) : 1);
+    card_supervise_late = (uint16_t)rnd();
+    card_ostat = rnd();
+    estop_seen = ext_on = 0;
+    vme_irq_waiting = 0;
+    virq_lost = rnd();
+    n_commands = rnd();
+    n_rsp_lost = rnd();
+    n_queue_errors = rnd();
+    for (unsigned i = 0; i < 8; i++)
+        serial_stats[i] = rnd();
+    if (!broad) {
+        card_ticks = 4001u + 4u * rnd_below(1000);
+        card_supervised = card_ticks - 1u;
+    }
+    m_wr16(SYS_STATUS, (uint16_t)rnd());
+    memset(fmem + DPRAM_BASE + 0x400, 0, DPRAM_SIZE - 0x400);
+    m_wr16(DP_STOP_BITS, (uint16_t)(rnd() & 0x5555u));
+    pack();
+}
+
+static int compare_sup(char *msg, size_t len)
+{
+    floor_restore_inputs();
+    beyond = 0;
+    card_supervise_tick_ref();
+    if (beyond) {
+        snprintf(msg, len, "an input beyond the routine's path (ref_stp.c gen_sup)");
+        return 1;
+    }
+    pack();
+    return floor_compare(msg, len, fields, sizeof fields / sizeof fields[0]);
+}
+
+/* ---- the command path (cmd.c cmd_poll), the VME host's reads (cmd.inc) --- */
+#define DIAG_FIELD(f) CK_FIELD, offsetof(axis_t, f)
+#define DIAG_RCP  DIAG_FIELD(pos)
+#define DIAG_RCPI CK_DIAG, CI_RCPI
+#define DIAG_ROUT CK_DIAG, CI_ROUT
+#define DIAG_RCT  DIAG_FIELD(counter)
+#define DIAG_RED  DIAG_FIELD(raw)
+#define DIAG_RFE  DIAG_FIELD(ferr)
+#define DIAG_RPS  CK_DIAG, CI_RPS
+#define DIAG_RAV  DIAG_FIELD(vel)
+#define DIAG_RAS  CK_DIAG, CI_RAS
+#define DIAG_RBS  DIAG_FIELD(ustat)
+#define DIAG_RSS  DIAG_FIELD(sstat)
+#define CMD_ON(cards, kind, arg) {ON_THIS_CARD(cards) ? (kind) : CK_NONE, (uint8_t)(arg)}
+#define CMD_ON_(...) CMD_ON(__VA_ARGS__)
+static const cmd_t cmds[] = {
+#define GEN(mn, code, cards, kind, desc) [code] = CMD_ON(cards, kind, CI_##mn),
+#define MODESEL(mn, code, cards, mode, desc) [code] = CMD_ON(cards, CK_MODE, (mode)),
+#define DIAG(mn, code, cards, units, desc) [code] = CMD_ON_(cards, DIAG_##mn),
+#define PARAM(id, mn, kind, wcode, cards, flags, min, max, def, units, desc) \
+    [wcode] = CMD_ON(cards, CK_WPAR, P_##id), [(wcode) + 1] = CMD_ON(cards, CK_RPAR, P_##id),
+#include "commands.def"
+};
+#define NCODES (sizeof cmds / sizeof cmds[0])
+
+static uint8_t field_off(uint8_t host)
+{
+    static const struct { size_t host; uint8_t fl; } map[] = {
+        {offsetof(axis_t, pos), ST_POS}, {offsetof(axis_t, counter), ST_COUNTER}, {offsetof(axis_t, raw), ST_RAW},
+        {offsetof(axis_t, ferr), ST_FERR}, {offsetof(axis_t, vel), ST_VEL}, {offsetof(axis_t, ustat), ST_USTAT},
+        {offsetof(axis_t, sstat), ST_SSTAT},
+    };
+    for (unsigned i = 0; i < sizeof map / sizeof map[0]; i++)
+        if (map[i].host == host)
+            return map[i].fl;
+    fprintf(stderr, "floorrun: a CK_FIELD of no known field\n");
+    return 0xFF;
+}
+
+static void cmd_poll_ref(void)
+{
+    if (serial_rx_work || par_wd > 0)
+        beyond = 1;
+    if (cmd_mr)
+        return;
+    if (n_held)
+        beyond = 1;
+    uint8_t t = turn ^= 1u;
+    int have = 0;
+    mac4_msg_t in;
+    if (t && serial_fifo_count)
+        beyond = 1;
+    int r = q_get_at(DP_CMD_QUEUE, &in, 0);
+    if (r == Q_CORRUPT) {
+        if (!queue_bad)
+            hal_wr32(DPC_QUEUE_ERRORS, ++n_queue_errors);
+        queue_bad = 1;
+    } else {
+        queue_bad = 0;
+        have = r;
+        if (have) {
+            in.source = MSG_SRC_VME;
+            if ((irq12 & 1u) && in.axis < MAC4_NAXES)
+                beyond = 1;
+        }
+    }
+    if (!have && !t && serial_fifo_count)
+        beyond = 1;
+    if (!have)
+        return;
+    cmd_t c = in.code < NCODES ? cmds[in.code] : (cmd_t){CK_NONE, 0};
+    if (!kind_is_read(c.kind) || in.axis >= MAC4_NAXES)
+        beyond = 1;
+    if (beyond)
+        return;
+    mac4_msg_t out = {0, 0, 0, 0};
+    unsigned prev = hal_irq_save();
+    if (card_ticks != card_supervised)
+        beyond = 1;
+    out.axis = in.axis;
+    out.source = in.source;
+    out.code = in.code;
+    wd_fired = 0;
+    last_valid_axis = in.axis;
+    const axis_t *x = axis_at[in.axis];
+    if (c.kind == CK_FIELD)
+        out.param = *(const uint32_t *)(const void *)((const uint8_t *)x + c.arg);
+    else if (c.kind == CK_DIAG && c.arg == CI_ROUT)
+        out.param = (uint32_t)stp_out_steps_sp(in.axis);  /* cmd_read_value */
+    else
+        beyond = 1;
+    hal_irq_restore(prev);
+    hal_wr32(DPC_COMMANDS, ++n_commands);
+    if (motion_vq_due)
+        beyond = 1;
+    if (q_put_at(DP_RSP_QUEUE, out.axis, out.code, out.param, MSG_SRC_VME) != Q_OK) {
+        hal_wr32(DPC_RSP_LOST, ++n_rsp_lost);
+        return;
+    }
+    if (irq12 & 2u)
+        beyond = 1;
+}
+
+static void pack_cmd(void)
+{
+    pack();
+    m_wr8(FLOOR_CARD + CD_SERWORK, serial_rx_work);
+    m_wr8(FLOOR_CARD + CD_FIFOCNT, serial_fifo_count);
+    m_wr8(FLOOR_CARD + CD_WDFIRED, wd_fired);
+    m_wr8(FLOOR_CARD + CD_MR, cmd_mr);
+    m_wr8(FLOOR_CARD + CD_NHELD, n_held);
+    m_wr8(FLOOR_CARD + CD_TURN, turn);
+    m_wr8(FLOOR_CARD + CD_QBAD, queue_bad);
+    m_wr8(FLOOR_CARD + CD_LASTAX, last_valid_axis);
+    m_wr8(FLOOR_CARD + CD_IRQ12, irq12);
+    m_wr8(FLOOR_CARD + CD_VQDUE, motion_vq_due);
+    m_wr16(FLOOR_CARD + CD_NCODES, (uint16_t)NCODES);
+    m_wr32(FLOOR_CARD + CD_WD, (uint32_t)par_wd);
+    m_wr8(FLOOR_CARD + CD_CIROUT, CI_ROUT);
+    for (unsigned k = 0; k < NCODES; k++) {
+        m_wr8(FLOOR_CMDTAB + 2 * k, cmds[k].kind);
+        m_wr8(FLOOR_CMDTAB + 2 * k + 1, cmds[k].kind == CK_FIELD ? field_off(cmds[k].arg) : cmds[k].arg);
+    }
+}
+
+static const char *const load_mn[] = {"RBS", "RCP", "RFE", "ROUT"};
+static uint16_t code_of(const char *mn)
+{
+    static const struct { const char *mn; uint16_t code; } t[] = {
+#define GEN(mn, code, cards, kind, desc) {#mn, code},
+#define MODESEL(mn, code, cards, mode, desc) {#mn, code},
+#define DIAG(mn, code, cards, units, desc) {#mn, code},
+#define PARAM(id, mn, kind, wcode, cards, flags, min, max, def, units, desc)
+#include "commands.def"
+    };
+    for (unsigned i = 0; i < sizeof t / sizeof t[0]; i++)
+        if (!strcmp(t[i].mn, mn))
+            return t[i].code;
+    return 0xFFFF;
+}
+
+static void queue_make(uint32_t q, uint32_t front, uint32_t rear)
+{
+    m_wr32(q + QH_BASE, Q_HEADER_SIZE);
+    m_wr32(q + QH_FRONT, front);
+    m_wr32(q + QH_REAR, rear);
+    m_wr32(q + QH_FREE, rnd());
+    m_wr32(q + QH_WIDTH, Q_WIDTH);
+    m_wr32(q + QH_NEL, Q_NEL);
+}
+
+enum { S_CMD = 10, S_CMD_IDLE };
+static unsigned cmd_k;
+
+static void gen_cmd(int scen)
+{
+    int broad = scen < 0;
+    routine_kind = R_COUNTER;
+    gen(broad ? -1 : S_MOVING);
+    for (unsigned n = 0; n < MAC4_NAXES; n++) {
+        axes[n].sstat = rnd();
+        axes[n].vel = (int32_t)rnd();
+    }
+    serial_rx_work = serial_fifo_count = 0;
+    par_wd = broad && rnd_pct(20) ? -(int32_t)rnd_below(5) : 0;
+    cmd_mr = (uint8_t)(broad && rnd_pct(5));
+    n_held = 0;
+    turn = (uint8_t)rnd_below(2);
+    queue_bad = (uint8_t)rnd_below(2);
+    last_valid_axis = (uint8_t)rnd_below(4);
+    irq12 = 0;
+    motion_vq_due = 0;
+    wd_fired = (uint8_t)rnd_below(2);
+    card_supervised = card_ticks;
+    n_commands = rnd();
+    n_rsp_lost = rnd();
+    n_queue_errors = rnd();
+    memset(fmem + DPRAM_BASE + 0x400, 0, DPRAM_SIZE - 0x400);
+    uint32_t rear = rnd_below(Q_NEL), front = rear == Q_NEL - 1 ? 0 : rear + 1;
+    if (scen == S_CMD_IDLE || (broad && rnd_pct(10)))
+        front = rear;
+    queue_make(DP_CMD_QUEUE, front, rear);
+    if (broad && rnd_pct(10))
+        m_wr32(DP_CMD_QUEUE + (rnd_pct(50) ? QH_WIDTH : rnd_pct(50) ? QH_FRONT : QH_REAR), 10 + rnd_below(5));
+    uint32_t e = DP_CMD_QUEUE + Q_HEADER_SIZE + 10 * rear;
+    unsigned k = cmd_k++;
+    uint16_t code = code_of(load_mn[k % 4]);
+    if (broad && rnd_pct(50)) {
+        do
+            code = (uint16_t)rnd_below(NCODES);
+        while (!(cmds[code].kind == CK_FIELD || (cmds[code].kind == CK_DIAG && cmds[code].arg == CI_ROUT)));
+    }
+    m_wr16(e + MSG_AXIS, (uint16_t)((broad ? rnd_below(4) : (k / 4) % 4) << 8 | (rnd() & 0xFF)));
+    m_wr16(e + MSG_CODE, code);
+    m_wr32(e + MSG_PARAM, rnd());
+    m_wr16(e + MSG_SOURCE, (uint16_t)rnd());
+    uint32_t rf = rnd_below(Q_NEL), rr = broad && rnd_pct(10) ? (rf + 1) % Q_NEL : (rf + 2 + rnd_below(8)) % Q_NEL;
+    if (rr == rf)
+        rr = (rf + 5) % Q_NEL;
+    queue_make(DP_RSP_QUEUE, rf, rr);
+    if (broad && rnd_pct(5))
+        m_wr32(DP_RSP_QUEUE + QH_NEL, 11);
+    pack_cmd();
+}
+
+static int compare_cmd(char *msg, size_t len)
+{
+    floor_restore_inputs();
+    beyond = 0;
+    cmd_poll_ref();
+    if (beyond) {
+        snprintf(msg, len, "an input beyond the routine's path (ref_stp.c gen_cmd)");
+        return 1;
+    }
+    pack_cmd();
+    return floor_compare(msg, len, fields, sizeof fields / sizeof fields[0]);
+}
+
+static const routine_t sup_routines[] = {{"stp_supervise", gen_sup, compare_sup, 0, NULL}};
+static const scenario_t sup_scenarios[] = {
+    {"moving", "stp_supervise", S_MOVING, "four axes positioning, after the SP boundary's tick (the LEDs)", 0},
+};
+static const module_t sup_module = {"stp", "supervise", sup_routines, 1, sup_scenarios, 1};
+static const routine_t cmd_routines[] = {{"stp_cmd", gen_cmd, compare_cmd, 0, NULL}};
+static const scenario_t cmd_scenarios[] = {
+    {"moving", "stp_cmd", S_CMD,
+     "the host's reads in turn (RBS, RCP, RFE, ROUT on axes 1-4): a command pass beyond an idle one", 1 + S_CMD_IDLE},
+};
+static const module_t cmd_module = {"stp", "command", cmd_routines, 1, cmd_scenarios, 1};
+
 static const routine_t routines[] = {
     {"stp_counter", gen_counter, compare, 1, NULL},
     {"stp_counter_start", gen_counter, compare, 1, NULL},
@@ -607,4 +1069,4 @@ static const scenario_t scenarios[] = {
 static const module_t tick_module = {
     "stp", "tick", routines, sizeof routines / sizeof routines[0], scenarios, sizeof scenarios / sizeof scenarios[0],
 };
-const module_t *const floor_modules[] = {&tick_module, NULL};
+const module_t *const floor_modules[] = {&tick_module, &sup_module, &cmd_module, NULL};

@@ -81,11 +81,14 @@ MUTANTS = [
     ("stp_counter_creep", "the reversal's wait", r"move\.b  #FL_CREEP_WAIT,ST_CREEP", "move.b  #FL_CREEP_RUN,ST_CREEP"),
     ("stp_counter", "motion_hold's fraction", r"clr\.w   ST_SPF\(%a0\)\n    clr\.w   ST_STARTF", "clr.w   ST_STARTF"),
     ("inc_supervise", "the LED of pos_end", r"or\.w    #\(SYS_LED_P", "or.w    #(SYS_LED_D"),
-    ("inc_supervise", "RED of the counter path", r"move\.l  SV_COUNTER\(%a0\),SV_RAW\(%a0\)", "nop"),
+    ("inc_supervise", "RED of the counter path", r"move\.l  REC\(COUNTER\)\(%a0\),REC\(RAW\)\(%a0\)", "nop"),
     ("ssi_supervise", "the Gray bit of the inputs", r"btst    #5,%d0", "btst    #4,%d0"),
     ("inc_cmd", "the queue's wrap (rear)", r"cmp\.w   #Q_NEL,%d2", "cmp.w   #Q_NEL+1,%d2"),
     ("inc_cmd", "a corrupt header counted once", r"move\.b  #1,FLOOR_CARD\+CD_QBAD", "nop"),
     ("inc_cmd", "a full response queue", r"cmp\.w   %d2,%d1", "cmp.w   %d1,%d1"),
+    ("stp_supervise", "the STP's fault LED of an error", r"and\.l   #FL_US_ERRORS,%d0", "and.l   #0,%d0"),
+    ("stp_supervise", "ROUT's Hz rounding", r"add\.l   #0x4000,%d0", "add.l   #0x3000,%d0"),
+    ("stp_cmd", "ROUT's Steps/SP rounding", r"moveq   #62,%d1", "moveq   #61,%d1"),
 ]
 
 
@@ -99,7 +102,7 @@ def test_the_check_catches_a_changed_routine(tmp_path, routine, what, pattern, r
     assert n == 1, "the mutant's pattern is no longer in %s: %s" % (part, pattern)
     inc = tmp_path / "inc"
     inc.mkdir()
-    for f in ("floor.h", "servo.inc", "stp.inc", "sup.inc", "cmd.inc"):
+    for f in ("floor.h", "servo.inc", "stp.inc", "sup.inc", "cmd.inc"):     # the parts, the one mutated
         shutil.copy(os.path.join(FLOOR_SRC, f), inc / f)
     (inc / part).write_text(mutated)
     binf = assemble(str(tmp_path), str(inc), routine)
