@@ -13,7 +13,8 @@
 #   make debug-identical  the EPROM bytes do not depend on -g
 #   make differential  native build against the EPROM image, tick for tick
 #   make timing        the hard deadlines (tests/timing)
-#   make bench         emulator speed, the cycle figures beside their aims, build/perf.json
+#   make bench         emulator speed, the cycle figures beside their aims and floors, build/perf.json
+#   make floor         the floor routines and build/floor/floorrun-CARD (bench/floor/README.md)
 #   make native        build/mac4sim-native-CARD: the firmware compiled for the host
 #   make board         regenerate hal/mac4_map.h, harness/bus_map.h, host/mac4card/board.py
 #   make docs          regenerate docs/commands.md from firmware/commands.def
@@ -241,9 +242,9 @@ system: all
 # ---- native/68000 agreement, cycle deadlines, benchmark (docs/performance.md) ----
 differential: all native
 	$(PYTHON) -m pytest -q tests/differential
-timing: all $(B)/busvectors
+timing: all $(B)/busvectors floor
 	$(PYTHON) -m pytest -q tests/timing
-bench: all $(B)/mac4bare $(B)/mac4bare-stock
+bench: all $(B)/mac4bare $(B)/mac4bare-stock floor
 	$(PYTHON) tools/bench.py
 
 # ---- bus timing: the wait-state model against the 68000 reference vectors ----
@@ -294,6 +295,9 @@ docs-check: $(B)/commands.json
 
 # ---- the 68000 core against the reference vectors (docs/cpu-timing.md) -----
 include tests/conformance/conformance.mk
+
+# ---- the floor routines of make bench, never in the firmware (bench/floor/README.md)
+include bench/floor/floor.mk
 
 # ---- the workbench (docs/debugging.md) -------------------------------------
 # The images carry -g debug information in their ELF for gdb; the EPROM bytes

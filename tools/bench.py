@@ -20,6 +20,9 @@
 5. Following error and settling time of a standard move on the manual's
    example configurations of 7.2, INC and SSI (tools/perfscen.py,
    tests/scenarios/), in emulated time: deterministic figures.
+6. Against the floor (bench/floor/README.md): per card and scenario the
+   worst tick beside the hand-written routine's cycles for the same path
+   on the same CPU and bus model, tick / floor beside its aim.
 All figures go to build/perf.json.  A benchmark, never a test: it fails only
 when something does not run.
 """
@@ -156,6 +159,60 @@ def print_rows(rows, limit):
             r["unit"], "met" if r["met"] else "NOT MET"))
 
 
+def floor_section(runs):
+    """tick / floor per card and scenario of perfscen.TICK_SCENARIOS (the
+    firmware's worst tick of the scenario over the floor routine's cycles
+    for its path, both under the default bus model): rows and the ratios
+    {card: {scenario: ratio}}.  A scenario without a floor routine is a
+    row without a ratio."""
+    rows, ratios = [], {}
+    for card in ("inc", "ssi", "stp"):
+        have = os.path.exists(os.path.join(ps.FLOOR_DIR, "floorrun-%s" % card))
+        fl = ps.floors(card) if have else {}
+        for name in ps.TICK_SCENARIOS[card]:
+            tick = ps.worst(runs.get(name, card), "timer")
+            f = fl.get("tick", {}).get(name)
+            ratio = round(tick / f["cycles"], 3) if f and tick else None
+            rows.append({"card": card, "scenario": name, "tick": tick, "floor": f["cycles"] if f else None,
+                         "routine": f["routine"] if f else None, "ratio": ratio})
+            if ratio is not None:
+                ratios.setdefault(card, {})[name] = ratio
+    return rows, ratios
+
+
+def supervise_floor_section():
+    """The supervision after each tick (card_supervise_tick, probed in
+    "moving": its worst) and the command path (cycles per command beyond an
+    idle pass, the host sending back to back) over their floor routines:
+    (rows, {card: {scenario: ratio}}) for each."""
+    sup_rows, sup_ratio, cmd_rows, cmd_ratio = [], {}, [], {}
+    for card in ("inc", "ssi", "stp"):
+        have = os.path.exists(os.path.join(ps.FLOOR_DIR, "floorrun-%s" % card))
+        fl = ps.floors(card) if have else {}
+        r = ps.supervised(card)
+        for kind, fig, rows, ratios in (("supervise", ps.supervise_worst(r), sup_rows, sup_ratio),
+                                        ("command", ps.command_cycles(r), cmd_rows, cmd_ratio)):
+            f = fl.get(kind, {}).get("moving")
+            ratio = round(fig / f["cycles"], 3) if f and fig else None
+            rows.append({"card": card, "scenario": "moving", kind: fig, "floor": f["cycles"] if f else None,
+                         "routine": f["routine"] if f else None, "ratio": ratio})
+            if ratio is not None:
+                ratios.setdefault(card, {})["moving"] = ratio
+    return sup_rows, sup_ratio, cmd_rows, cmd_ratio
+
+
+def print_floor_rows(rows, key):
+    print("  %-8s %-14s %7s %7s %7s  %-5s %-8s %s" % ("card", "scenario", key, "floor", "ratio", "aim", "", "routine"))
+    for r in rows:
+        if r["ratio"] is None:
+            print("  MAC4-%-3s %-14s %7s %7s %7s  %-5s %-8s" % (r["card"].upper(), r["scenario"], r[key] or "-",
+                                                           "-", "-", "", "no floor"))
+            continue
+        print("  MAC4-%-3s %-14s %7d %7d %7.2f  %-5.2f %-8s %s" % (
+            r["card"].upper(), r["scenario"], r[key], r["floor"], r["ratio"], ps.AIM_FLOOR_RATIO,
+            "met" if r["ratio"] <= ps.AIM_FLOOR_RATIO else "NOT MET", r["routine"]))
+
+
 def main():
     for f in (ps.SIM, BARE, BARE_STOCK):
         if not os.path.exists(f):
@@ -281,6 +338,17 @@ def main():
             r["card"].upper(), r["wait_states"], r["tick"], r["masked"], r["uart_need"],
             "ok" if r["uart_need"] <= r["uart_limit"] else "MISSED", r["load_percent"] or 0))
 
+    print("== against the floor (bench/floor/README.md): the worst tick of each scenario over the floor "
+          "routine's cycles for its path, four axes, the SP boundary's tick, the same CPU and bus model; "
+          "aim <= %.2f" % ps.AIM_FLOOR_RATIO)
+    floor_rows, floor_ratio = floor_section(runs)
+    print_floor_rows(floor_rows, "tick")
+    sup_rows, sup_ratio, cmd_rows, cmd_ratio = supervise_floor_section()
+    print("-- the supervision after each tick (card_supervise_tick, probed, its worst; four axes positioning)")
+    print_floor_rows(sup_rows, "supervise")
+    print("-- the command path: cycles per command beyond an idle pass (the host's reads back to back)")
+    print_floor_rows(cmd_rows, "command")
+
     boot = {card: ps.boot_ms(card) for card in ("inc", "ssi", "stp")}
     print("-- boot, reset to display $5 (RAM test, EPROM check sum): %s"
           % ", ".join("MAC4-%s %.0f ms" % (c.upper(), boot[c] or 0) for c in boot))
@@ -362,6 +430,14 @@ def main():
         "stack_bytes_per_card": {c: s["stack_bytes"] for c, s in stacks.items()},
         "moved_in_window": {c: ps.moved(res[c]) for c in ("inc", "ssi", "stp")},
         "aims": aims,
+        # tick / floor (bench/floor/README.md): {card: {scenario: ratio}}, and the figures
+        "tick_floor_ratio": floor_ratio,
+        "tick_floor": floor_rows,
+        "supervise_floor_ratio": sup_ratio,
+        "supervise_floor": sup_rows,
+        "command_floor_ratio": cmd_ratio,
+        "command_floor": cmd_rows,
+        "aim_floor_ratio": ps.AIM_FLOOR_RATIO,
         "extensions": exts,
         "bus_model": ps.bus_timing_line(),
         "sensitivity": sens,

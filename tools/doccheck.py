@@ -18,7 +18,7 @@ import subprocess
 import sys
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-DIRS = ("firmware", "hal", "harness", "tools", "tests", "host", "board", "docs", "linker")
+DIRS = ("firmware", "hal", "harness", "tools", "tests", "host", "board", "docs", "linker", "bench")
 EXTS = (r"[A-Za-z][A-Za-z0-9]*",)    # any extension
 PATH = re.compile(r"(?<![\w./$-])((?:%s)/[\w./-]*?\.(?:%s))(?![\w/])" % ("|".join(DIRS), "|".join(EXTS)))
 IDENT = re.compile(r"`([A-Za-z_]\w*)\(\)`|`([a-z][a-z0-9]*_[a-z0-9_]+)`")

@@ -840,3 +840,64 @@ def standard_move(card, workdir=BUILD):
     res.update({"trt_ms": trt, "move": "7.2 %s example, axis 1: 0 -> %d, WPV %d WPA %d WPD %d"
                 % (card.upper(), m["target"], m["pv"], m["pa"], m["pd"]), "trace": os.path.relpath(path, ROOT)})
     return res
+
+
+# ---- the floor routines (bench/floor/README.md): the hand-written 68000
+# sequences of the tick (and of the command path and the supervision), run
+# by build/floor/floorrun-CARD on the emulator's CPU and bus model, held bit
+# for bit to the firmware's C; make bench sets the firmware's figures
+# against them (tick / floor).
+FLOOR_DIR = os.path.join(BUILD, "floor")
+AIM_FLOOR_RATIO = 1.05        # tick / floor: an aim, make bench only
+
+
+def floor_run(card, *args, timeout=600):
+    """build/floor/floorrun-CARD FLOOR_DIR ARGS: (returncode, stdout, stderr)."""
+    p = subprocess.run([os.path.join(FLOOR_DIR, "floorrun-%s" % card), FLOOR_DIR] + list(args),
+                       capture_output=True, text=True, timeout=timeout)
+    return p.returncode, p.stdout, p.stderr
+
+
+SUPERVISE_PROBE = "card_supervise_tick"
+
+
+def supervised(card, name="moving"):
+    """A scenario with the supervision after each tick probed
+    (card_supervise_tick, main loop): its run, for supervise_worst() and
+    command_cycles()."""
+    s = SCRIPTS[name](card)
+    return run(card, s.replace("perf probe %s" % PROFILE_PROBE,
+                               "perf probe %s\nperf probe %s" % (PROFILE_PROBE, SUPERVISE_PROBE), 1))
+
+
+def supervise_worst(r):
+    """The longest supervision after a tick in run r (supervised())."""
+    p = r["probe"].get(SUPERVISE_PROBE, {})
+    return p.get("max") if p.get("count") else None
+
+
+def command_cycles(r):
+    """Cycles per command in run r (supervised(): the supervision and the
+    profile generator probed, so neither is in it): the command passes'
+    work beyond the cheapest idle pass (perf load "cmd"), per command pass."""
+    ld = r["load"]
+    if not ld.get("cmd_passes"):
+        return None
+    return round(ld["cmd"] / 100.0 * ld["window_ms"] * CPU_HZ / 1000.0 / ld["cmd_passes"])
+
+
+def floors(card, samples=None):
+    """The floor of every scenario the card's routines cover:
+    {kind: {scenario: {"cycles", "min", "routine"}}} (kind: tick, supervise,
+    command).  Raises if a routine differs from the firmware's C."""
+    rc, out, err = floor_run(card, "--measure", *([str(samples)] if samples else []))
+    if rc != 0:
+        raise RuntimeError("floorrun-%s --measure failed (%d): %s%s" % (card, rc, out[-2000:], err[-2000:]))
+    res = {}
+    for line in out.splitlines():
+        parts = line.split()
+        if parts[:1] == ["floor"] and len(parts) >= 4:
+            kv = {k: num(v) for k, v in KV.findall(line)}
+            res.setdefault(parts[2], {})[parts[3]] = {"cycles": kv["cycles"], "min": kv["min"],
+                                                      "routine": kv["routine"]}
+    return res

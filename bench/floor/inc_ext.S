@@ -1,0 +1,4 @@
+/* MAC4-INC servo tick, floor: encoders on the VMEbus (<et> 3/4, 32-bit reads), absolute on linear axes the fast path (scenarios external, external_full, encoder_loss).
+ * (bench/floor/README.md; the parts: servo.inc) */
+#include "servo.inc"
+    SV_TICK MEAS_EXT, lin, 0, %d0-%d5/%d7/%a0-%a3, %d0-%d7/%a0-%a3
