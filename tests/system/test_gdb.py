@@ -177,45 +177,6 @@ def test_stops_do_not_change_the_run():
     assert lines[1:] == ref.stdout.splitlines()
 
 
-# Step until the CPU stands at an interrupt handler's first instruction with
-# the scheduler slice's cycles used up by the exception processing (taken at
-# m68k_execute's entry; `monitor slice` <= 0); then detach there.  After
-# STOPS the firmware as it is now gets there in about 18000 steps.
-STEP_TO_HANDLER = """
-import re
-vec = bytes(gdb.selected_inferior().read_memory(int(gdb.parse_and_eval("(long)&_vectors")) + 25 * 4, 7 * 4))
-entries = {int.from_bytes(vec[i:i + 4], "big") for i in range(0, 28, 4)}
-for n in range(1, 40001):
-    gdb.execute("stepi", to_string=True)
-    if int(gdb.parse_and_eval("(long)$pc")) & 0xFFFFFF in entries:
-        m = re.search(r"slice-left (-?[0-9]+)", gdb.execute("monitor slice", to_string=True))
-        if int(m.group(1)) <= 0:
-            print("handler entry, slice used up, after %d steps" % n)
-            break
-"""
-
-
-def test_stop_at_a_handler_entry_taken_by_a_step():
-    """A step whose stop is the first instruction of an interrupt handler,
-    the interrupt taken at a slice's start with all of the slice's cycles:
-    that instruction still belongs to the slice, and detaching there leaves
-    the run as it is without gdb."""
-    ref = subprocess.run([SIM, "--card", "inc", "--timestamps", "--script", "-"], input=SCENARIO, capture_output=True,
-                         text=True, timeout=60)
-    assert ref.returncode == 0, ref.stderr
-    with tempfile.NamedTemporaryFile("w", suffix=".py", delete=False) as f:
-        f.write(STEP_TO_HANDLER)
-    try:
-        lines, g = debug("inc", SCENARIO, STOPS + ["source " + f.name, "x/i $pc", "detach"],
-                         extra_args=["--timestamps"], timeout=180)
-    finally:
-        os.unlink(f.name)
-    # not found: the firmware changed the path; STOPS or the step bound must follow it
-    assert "handler entry, slice used up" in g, g[-2000:]
-    assert re.search(r"=> 0x[0-9a-f]+ <fw_isr_\w+>:", g), g[-2000:]
-    assert lines[1:] == ref.stdout.splitlines()
-
-
 class MI:
     """gdb-multiarch over its machine interface, for what batch mode cannot
     do: interrupt a running target (Ctrl-C, -exec-interrupt)."""
