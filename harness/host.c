@@ -5,6 +5,7 @@
  */
 #include "sim.h"
 #include "buswait.h"
+#include "idle.h"
 
 uint16_t dp_rd16(sim_t *s, uint32_t off)
 {
@@ -19,6 +20,7 @@ uint32_t dp_rd32(sim_t *s, uint32_t off)
 
 void dp_wr16(sim_t *s, uint32_t off, uint16_t v)
 {
+    idle_diverted();          /* the CPU may read it */
     off &= 0xFFFE;
     s->dpram[off] = (uint8_t)(v >> 8);
     s->dpram[off + 1] = (uint8_t)v;

@@ -144,6 +144,9 @@ extern sim_t *g_sim;
 uint32_t bus_read(sim_t *s, uint32_t addr, int size);           /* size 1, 2 or 4 */
 void bus_write(sim_t *s, uint32_t addr, uint32_t v, int size);
 void sim_fault(sim_t *s, const char *fmt, ...);
+/* reads through the bus map (every CPU read but the memories' fast path):
+ * the idle skip records no window after a pass that made one (idle.c) */
+extern uint64_t bus_reads;
 
 /* periph.c: the device table */
 void periph_connect(sim_t *s);     /* wire the signals (sim_init) */
