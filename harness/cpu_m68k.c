@@ -298,6 +298,15 @@ static cyc_t m68k_cpu_execute(sim_t *s, cyc_t max)
     return slice_done;
 }
 
+/* m68k_set_irq only latches the level: Musashi takes an interrupt at
+ * m68k_execute's entry (every slice, after the devices' events) and
+ * whenever SR changes (m68ki_set_sr: RTE, MOVE/ANDI to SR, so the end of a
+ * masked section such as serial.c's TXIE enable).  A line an I/O access
+ * raises mid-slice with the mask already low waits for the slice's end;
+ * in the timing and fast-identical scenarios the only such raise is the
+ * SSI-delayed tick seen by the slice's last instruction, taken after it as
+ * on the 68000.  The idle skip relies on this: no interrupt inside a
+ * window run at the request level it was recorded under (idle.c). */
 static void m68k_cpu_set_irq(int level) { m68k_set_irq((unsigned)level); }
 static int m68k_cpu_halted(void) { return (m68ki_cpu.stopped & STOP_LEVEL_HALT) != 0; }
 
