@@ -107,6 +107,7 @@ typedef struct sim {
 
     FILE *out;                     /* where events are printed */
     int timestamps;
+    int quiet;                     /* `perf quiet on`: out is /dev/null, events are not even formatted */
 
     /* ---- added for measurement and the differential test (harness/perf.c,
      * docs/performance.md).  All hooks are NULL unless perf.c sets them. ---- */
