@@ -128,6 +128,7 @@ static struct {
 static unsigned park;           /* the window's instruction the CPU stands before, if it followed it */
 static unsigned n_anch, anch[REC_PASSES];   /* the window's instructions at the anchor */
 static int16_t expect[MAX_BYTES];
+static int exp_at = -1;          /* the checkpoint expect[] is at, -1 none */
 typedef struct { const uint8_t *p; uint8_t v; } chk_t;
 static chk_t *chk;
 static unsigned chk_n[MAX_INS + 1];   /* checkpoint c's checks: chk[c * n_bytes ...], so many */
@@ -259,6 +260,7 @@ static int finish(void)
         return 0;
     for (unsigned c = 0; c < n; c++)
         chk_n[c] = CHK_UNBUILT;
+    exp_at = -1;
     win.n = n;
     win.instr = n_ins;
     win.P = ins[n].t;
@@ -319,20 +321,22 @@ static void rec_instr(unsigned pc)
 }
 
 /* ---- what the recorded instructions touch (cpu_m68k.c) ---------------------- */
-static uint8_t *mem_of(uint32_t a, unsigned *key)
+/* The memory behind an address the window may touch, and its first key in
+ * stamp[]; NULL for anything else (I/O, the vectors, the EPROM's copy). */
+static inline uint8_t *mem_of(uint32_t a, unsigned n, unsigned *key)
 {
-    if (a - SRAM_BASE < SRAM_SIZE) {
+    if (a - SRAM_BASE <= SRAM_SIZE - n) {
         *key = DPRAM_SIZE + (a - SRAM_BASE);
         return g_sim->sram + (a - SRAM_BASE);
     }
-    if (a >= 0x400 && a < DPRAM_SIZE && !(g_sim->sysctl & SYS_CTRL_OVERLAY)) {
+    if (a >= 0x400 && a <= DPRAM_SIZE - n && !(g_sim->sysctl & SYS_CTRL_OVERLAY)) {
         *key = a;
         return g_sim->dpram + a;
     }
     return NULL;
 }
 
-static int byte_of(uint8_t *p, unsigned key, int read)
+static inline int byte_of(uint8_t *p, unsigned key, int read)
 {
     if (stamp[key] == gen)
         return bidx[key];
@@ -349,11 +353,15 @@ void idle_rec_read(uint32_t a, unsigned n)
     a &= 0xFFFFFF;
     if (a - EPROM_BASE < EPROM_SIZE)
         return;                 /* read-only */
+    unsigned key;
+    uint8_t *p = mem_of(a, n, &key);
+    if (!p) {                   /* I/O */
+        rec_fail();
+        return;
+    }
     for (unsigned i = 0; i < n; i++) {
-        unsigned key;
-        uint8_t *p = mem_of((a + i) & 0xFFFFFF, &key);
-        int b = p ? byte_of(p, key, 1) : -1;
-        if (b < 0 || *p != bytes[b].shadow) {   /* I/O, or changed behind the CPU's back */
+        int b = byte_of(p + i, key + i, 1);
+        if (b < 0 || p[i] != bytes[b].shadow) {   /* changed behind the CPU's back */
             rec_fail();
             return;
         }
@@ -372,22 +380,25 @@ void idle_rec_write(uint32_t a, uint32_t v, unsigned n)
         io[n_io++] = (io_t){n_ins - 1, NOW() - t0, a, v, (int)n};
         return;
     }
+    unsigned key;
+    uint8_t *p = mem_of(a, n, &key);
+    if (!p || n_w + n > MAX_WRITES) {
+        rec_fail();
+        return;
+    }
+    if (key < DPRAM_SIZE)
+        rec_dp = 1;
     for (unsigned i = 0; i < n; i++) {
-        unsigned key;
-        uint8_t *p = mem_of((a + i) & 0xFFFFFF, &key);
-        int b = p ? byte_of(p, key, 0) : -1;
-        if (b < 0 || n_w >= MAX_WRITES) {
+        int b = byte_of(p + i, key + i, 0);
+        if (b < 0) {
             rec_fail();
             return;
         }
         uint8_t byte = (uint8_t)(v >> (8 * (n - 1 - i)));
-        if (key < DPRAM_SIZE)
-            rec_dp = 1;
         bytes[b].shadow = byte;
         wr[n_w++] = (wr_t){n_ins - 1, (uint16_t)b, byte};
     }
 }
-
 
 void idle_irq(void) { idle_diverted(); }
 
@@ -398,10 +409,15 @@ void idle_irq(void) { idle_diverted(); }
  * read; written before p: the last value written). */
 static void build_checks(unsigned p)
 {
-    for (unsigned b = 0; b < n_bytes; b++)
-        expect[b] = bytes[b].rbw ? bytes[b].start : -1;
-    for (unsigned e = 0; e < ins[p].nw; e++)
+    /* expect[]: the bytes at checkpoint exp_at, moved on from there when it can */
+    if (exp_at < 0 || (unsigned)exp_at > p) {
+        for (unsigned b = 0; b < n_bytes; b++)
+            expect[b] = bytes[b].rbw ? bytes[b].start : -1;
+        exp_at = 0;
+    }
+    for (unsigned e = ins[exp_at].nw; e < ins[p].nw; e++)
         expect[wr[e].b] = wr[e].v;
+    exp_at = (int)p;
     chk_t *c = chk + (size_t)p * n_bytes;
     unsigned k = 0;
     for (unsigned b = 0; b < n_bytes; b++)
@@ -545,8 +561,14 @@ static int try_skip(unsigned pc)
 
 void mac4_idle_instr(unsigned pc)
 {
-    if (mac4_idle_rec)
+    if (mac4_idle_rec) {
+        /* most recorded instructions are neither checkpoints nor the anchor */
+        if (pc != anchor && n_ins % CK_EVERY != 0 && n_ins < MAX_INSTR && CPU_INT_LEVEL == level0) {
+            n_ins++;
+            return;
+        }
         rec_instr(pc);
+    }
     else if (win.valid)
         try_skip(pc);
     else if (pc == anchor)
