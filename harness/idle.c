@@ -123,6 +123,7 @@ static struct {
     uint64_t P;                 /* its cycles */
     unsigned level;             /* interrupt request level it ran under */
     int dp_writes;              /* it writes the DPRAM (bus writes perf.c may watch) */
+    uint64_t skipped;           /* cycles skipped with it so far */
     uint8_t ws[BW_NREGIONS][2];
 } win;
 static unsigned park;           /* the window's instruction the CPU stands before, if it followed it */
@@ -156,13 +157,14 @@ static void follow(unsigned p)
 static int allowed(void)
 {
     sim_t *s = g_sim;
-    return mac4_fast && !mac4_profiling && !mac4_gdb_on && !s->vcd && !s->sram_fault_mask &&
+    return mac4_fast && !(mac4_profiling & ~MAC4_PROFILING_IDLE) && !mac4_gdb_on && !s->vcd && !s->sram_fault_mask &&
            !(s->sysctl & SYS_CTRL_OVERLAY) && !s->nactive && !CPU_STOPPED && !m68ki_cpu.nmi_pending;
 }
 
 static void rec_end(void)
 {
     mac4_idle_rec = 0;
+    mac4_profiling &= ~MAC4_PROFILING_IDLE;
 }
 
 void idle_invalidate(void)
@@ -173,12 +175,18 @@ void idle_invalidate(void)
     watch(0);
 }
 
+/* After a few failures in a row the anchor is passed over 2, 4 ... 64 times. */
+static void note_failure(void)
+{
+    if (++fails > 2)
+        backoff = fails > 8 ? 64 : 1u << (fails - 2);
+}
+
 static void rec_fail(void)
 {
     rec_end();
     idle_stats.failed++;
-    if (++fails > 2)
-        backoff = fails > 8 ? 64 : 1u << (fails - 2);
+    note_failure();
     watch(0);
 }
 
@@ -206,6 +214,7 @@ static void rec_begin(void)
     iacks0 = buswait_stats.iacks;
     c0 = buswait_stats;
     mac4_idle_rec = 1;
+    mac4_profiling |= MAC4_PROFILING_IDLE;
     idle_stats.recordings++;
 }
 
@@ -271,6 +280,7 @@ static int finish(void)
     for (unsigned i = 0; i < n; i++)
         if (ins[i].g.r[16] == anchor && n_anch < REC_PASSES)
             anch[n_anch++] = i;
+    win.skipped = 0;
     win.valid = 1;
     return 1;
 }
@@ -284,7 +294,6 @@ static void rec_instr(unsigned pc)
         if (closed()) {
             rec_end();
             if (finish()) {
-                fails = 0;
                 idle_stats.windows++;
                 watch(0);
                 try_skip(pc);
@@ -296,8 +305,8 @@ static void rec_instr(unsigned pc)
         if (passes >= REC_PASSES) {      /* begin again here: the pass that started it may have been a busy one */
             rec_end();
             idle_stats.failed++;
-            if (++fails > 2) {
-                backoff = fails > 8 ? 64 : 1u << (fails - 2);
+            note_failure();
+            if (backoff) {
                 watch(0);
                 return;
             }
@@ -482,6 +491,13 @@ static int try_skip(unsigned pc)
         while (j < n_anch && !state_ok(anch[j]))
             j++;
         if (j == n_anch || memcmp(win.ws, buswait_cfg.ws, sizeof win.ws)) {
+            /* a window that skipped less than it took to record counts as a
+             * failure: with the host sending back to back a command changes
+             * the queue it reads before it pays */
+            if (win.skipped < win.P)
+                note_failure();
+            else
+                fails = 0;
             win.valid = 0;       /* not the window's state any more: record anew */
             watch(0);
             start_recording(pc);
@@ -553,6 +569,7 @@ static int try_skip(unsigned pc)
     USE_CYCLES((int)(end - used));
     regs_set(&ins[i].g);
     idle_stats.skips++;
+    win.skipped += end;
     idle_stats.cycles += end;
     idle_stats.instructions += k * win.instr + ins[i].idx - ins[p].idx;
     follow(i + 1 < n ? i + 1 : 0);  /* the slice ends before it: where the next one checks again */

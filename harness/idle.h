@@ -11,6 +11,10 @@ typedef struct {
 } idle_stats_t;
 extern idle_stats_t idle_stats;
 extern int mac4_idle_rec;           /* recording: cpu_m68k.c reports every access */
+/* mac4_profiling's bit for the idle skip's recording: mac4_profile_instr
+ * passes every instruction on to mac4_idle_instr (musashi_cnf.h) */
+#define MAC4_PROFILING_IDLE 2
+void mac4_idle_instr(unsigned pc);
 
 void idle_reset(void);              /* a CPU reset: no window */
 void idle_invalidate(void);

@@ -38,7 +38,6 @@
 int mac4_profiling;
 int mac4_gdb_on;                                    /* no gdb stub here */
 unsigned mac4_idle_pc = 1;                          /* no idle skip here: odd, never a PC */
-int mac4_idle_rec;
 void mac4_idle_instr(unsigned pc) { (void)pc; }
 int mac4_gdb_instr(unsigned pc) { (void)pc; return 0; }
 void mac4_profile_instr(unsigned pc) { (void)pc; }
