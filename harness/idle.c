@@ -613,6 +613,7 @@ void idle_diverted(void)
 
 void idle_reset(void)
 {
+    dp_written = idle_diverted;
     if (!anchor_looked) {
         anchor_looked = 1;
         uint32_t a;

@@ -12,7 +12,6 @@
 #include <string.h>
 #include <sys/stat.h>
 #include "script.h"
-#include "idle.h"
 #include "cpu.h"
 #include "periph.h"
 #include "profile.h"
@@ -208,7 +207,8 @@ int script_line(script_t *sc, sim_t *s, char *line)
             return script_err(sc, "bad value '%s'", tok[2]);
         if (w == 1) {
             s->dpram[off] = (uint8_t)v;
-            idle_diverted();
+            if (dp_written)
+                dp_written();
         } else if (w == 2)
             dp_wr16(s, off, (uint16_t)v);
         else

@@ -176,6 +176,7 @@ cyc_t sim_axis_peek(sim_t *s);     /* the same without counting an access */
 uint32_t dp_rd32(sim_t *s, uint32_t off);
 uint16_t dp_rd16(sim_t *s, uint32_t off);
 void dp_wr32(sim_t *s, uint32_t off, uint32_t v);
+extern void (*dp_written)(void);   /* after every dp_wr16 (and a script's poke8), if set */
 void dp_wr16(sim_t *s, uint32_t off, uint16_t v);
 int host_send(sim_t *s, uint8_t axis, uint16_t code, uint32_t param, uint8_t source);
 int host_poll_responses(sim_t *s);
