@@ -3,27 +3,27 @@
  *
  * The firmware's idle main loop reads memory, writes the same bytes and
  * kicks the watchdog, pass after pass.  From the entry of fw_main_step (the
- * anchor) the CPU is recorded, instruction by instruction, for up to
- * REC_PASSES passes: the registers before each instruction, its cycle
- * offset, every byte of the SRAM and DPRAM it reads or writes, the bus
- * cycles and wait states it makes and its writes to the watchdog, the one
- * I/O register a window may touch.  The window closes when the CPU is back
- * at the anchor with the registers it started with and every byte it read
- * before writing it as it was: then the next pass pair is the same window
- * again, instruction for instruction, unless something from outside
- * changes what it reads.
+ * anchor), after a pass that read no device and took no interrupt, the CPU
+ * is recorded for up to REC_PASSES passes: at every CK_EVERY-th instruction
+ * and at the anchor a checkpoint (registers, cycle offset, bus counters),
+ * every byte of the SRAM and DPRAM read or written, and the writes to the
+ * watchdog, the one I/O register a window may touch.  The window closes
+ * when the CPU is back at the anchor with the registers it started with and
+ * every byte it read before writing it as it was: then the next pass pair
+ * is the same window again, instruction for instruction, unless something
+ * from outside changes what it reads.
  *
- * Skip: when the CPU stands before an instruction of a closed window (the
- * anchor, or where the last skip left it) with that instruction's registers,
- * the bytes the rest of the window reads as they were then, the same
- * interrupt request level, no VME host access holding the DPRAM and the same
- * bus timing, everything up to the last instruction the slice would start
- * is applied at once: its registers, the last value of every byte written,
- * the watchdog writes at their cycles (through the bus, as the CPU made
- * them), the bus counts and the cycles.  That last instruction is then
- * executed by Musashi, so the slice ends as it would.  Interrupts are only
- * taken at m68k_execute's start or at an SR change (cpu_m68k.c), so with
- * the request level of the recording none is taken inside the window.
+ * Skip: when the CPU stands before a checkpoint of a closed window with
+ * that checkpoint's registers, the bytes the rest of the window reads as
+ * they were then, the same interrupt request level, no VME host access
+ * holding the DPRAM and the same bus timing, everything up to the last
+ * checkpoint the slice would start is applied at once: its registers, the
+ * last value of every byte written, the last watchdog write at its cycle
+ * (through the bus, as the CPU made it; the watchdog's state is the time of
+ * its last write), the bus counts and the cycles.  Musashi runs the rest of
+ * the slice, so it ends as it would.  Interrupts are only taken at
+ * m68k_execute's start or at an SR change (cpu_m68k.c), so with the request
+ * level of the recording none is taken inside the window.
  *
  * Off with --no-fast, the profiler, perf probes, tracks and masks (their
  * instruction hook), gdb, a waveform, an SRAM fault or the boot overlay.
@@ -40,7 +40,7 @@
 #include "gdbstub.h"
 
 unsigned mac4_idle_pc = 1;      /* the PC watched: odd, never one, until the anchor is known */
-int mac4_idle_rec;              /* recording: every instruction */
+int mac4_idle_rec;              /* recording: cpu_m68k.c reports every memory access */
 idle_stats_t idle_stats;
 
 #define REC_PASSES 2            /* a window is one or two passes (the command poll's turn byte) */
@@ -113,7 +113,6 @@ static uint64_t last_reads = ~0ull, last_iacks = ~0ull;   /* at the last anchor 
 static unsigned passes, level0, fails, backoff;
 static uint64_t contention0, iacks0;
 static int rec_dp;                /* the recording wrote the DPRAM */
-static buswait_stats_t c0;
 
 /* the closed window */
 static struct {
@@ -212,7 +211,6 @@ static void rec_begin(void)
     level0 = CPU_INT_LEVEL;
     contention0 = buswait_stats.contention;
     iacks0 = buswait_stats.iacks;
-    c0 = buswait_stats;
     mac4_idle_rec = 1;
     mac4_profiling |= MAC4_PROFILING_IDLE;
     idle_stats.recordings++;
