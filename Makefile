@@ -67,7 +67,7 @@ HOSTCFLAGS := -std=gnu11 -O2 -g $(HOSTWARN)
 
 MUS      := $(B)/deps/musashi
 MUSOBJ   := $(B)/musashi/m68kcpu.o $(B)/musashi/m68kops.o $(B)/musashi/m68kdasm.o $(B)/musashi/softfloat.o
-MUSCFLAGS := -std=gnu99 -O2 -g -w -I$(MUS) -Iharness -Ihal -DMUSASHI_CNF='"musashi_cnf.h"'
+MUSCFLAGS := -std=gnu99 -O2 -g -w -I$(MUS) -Iharness -Ihal -DMUSASHI_CNF='"musashi_cnf.h"' -DMAC4_IDLE_HOOK
 
 # the workbench (docs/debugging.md): gdb stub, waveforms, front panel
 BENCH_SRCS := harness/gdbstub.c harness/bench_script.c harness/panel.c
@@ -76,7 +76,7 @@ HARNESS_CORE := harness/sim.c harness/bus.c harness/periph.c harness/axisboard.c
 # the devices of periph.c's table, a file each
 HARNESS_CORE += harness/sysctl.c harness/timer.c harness/uart.c harness/virq.c
 HARNESS_SRCS := $(HARNESS_CORE) \
-                harness/script.c harness/script_serial.c harness/serial_host.c harness/script_plant.c harness/cpu_m68k.c harness/profile.c harness/cmdnames.c harness/mac4sim.c \
+                harness/script.c harness/script_serial.c harness/serial_host.c harness/script_plant.c harness/cpu_m68k.c harness/idle.c harness/profile.c harness/cmdnames.c harness/mac4sim.c \
                 harness/perf.c $(BENCH_SRCS)
 HARNESS_HDRS := $(wildcard harness/*.h) hal/mac4_map.h firmware/commands.def
 

@@ -128,8 +128,11 @@ static void wr1(sim_t *s, uint32_t addr, uint32_t v, int size)
         sim_update_irq(s);
 }
 
+uint64_t bus_reads;
+
 uint32_t bus_read(sim_t *s, uint32_t addr, int size)
 {
+    bus_reads++;
     addr &= 0xFFFFFF;                         /* 24 address lines */
     if (size == 4)
         return rd1(s, addr, 2) << 16 | rd1(s, (addr + 2) & 0xFFFFFF, 2);

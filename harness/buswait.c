@@ -183,6 +183,8 @@ void buswait_host_access(uint64_t at, uint32_t off)
     ring_head = (ring_head + 1) % HOST_RING;
 }
 
+uint64_t buswait_host_free(void) { return host_free; }
+
 unsigned buswait_dpram_contention(uint64_t now, uint32_t off)
 {
     if (now >= host_free)

@@ -78,6 +78,8 @@ static inline unsigned buswait_refund(uint32_t addr, unsigned bus)
  * holds waits until it is free.  Returns the clocks to wait (counted). */
 void buswait_host_access(uint64_t at, uint32_t off);
 unsigned buswait_dpram_contention(uint64_t now, uint32_t off);
+/* the cycle from which no host access holds a DPRAM word (the idle skip) */
+uint64_t buswait_host_free(void);
 /* The clocks the interrupt acknowledge takes beyond the 4 of Musashi's
  * 44-cycle interrupt (counted). */
 unsigned buswait_iack(void);

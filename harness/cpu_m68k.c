@@ -11,6 +11,7 @@
 #include "profile.h"
 #include "buswait.h"
 #include "gdbstub.h"
+#include "idle.h"
 
 int mac4_fast = 1;          /* mac4sim --no-fast: every speedup below off (cpu.h) */
 static int expect_vector;   /* an interrupt acknowledge precedes its vector fetch */
@@ -72,7 +73,7 @@ static inline const uint8_t *mem_fast(unsigned a, unsigned n)
  * cycle's wait states are charged to the slice as it is made, and a DPRAM
  * access waits for a word the VME host holds.  The EPROM answers at $0
  * while the boot overlay is on. */
-static inline void bus_cycles(unsigned a, int write, unsigned n)
+static inline __attribute__((always_inline)) void bus_cycles(unsigned a, int write, unsigned n)
 {
     if (!in_slice)      /* the reset's vector fetch: Musashi counts no time for it */
         return;
@@ -92,6 +93,8 @@ static inline void bus_cycles(unsigned a, int write, unsigned n)
 unsigned int m68k_read_memory_8(unsigned int a)
 {
     bus_cycles(a, 0, 1);
+    if (mac4_idle_rec)
+        idle_rec_read(a, 1);
     if (mac4_gdb_watching)
         gdbstub_access(a, 1, 0);
     const uint8_t *m = mem_fast(a & 0xFFFFFF, 1);
@@ -100,6 +103,8 @@ unsigned int m68k_read_memory_8(unsigned int a)
 unsigned int m68k_read_memory_16(unsigned int a)
 {
     bus_cycles(a, 0, 1);
+    if (mac4_idle_rec)
+        idle_rec_read(a, 2);
     if (mac4_gdb_watching)
         gdbstub_access(a, 2, 0);
     const uint8_t *m = mem_fast(a & 0xFFFFFF, 2);
@@ -108,6 +113,8 @@ unsigned int m68k_read_memory_16(unsigned int a)
 unsigned int m68k_read_memory_32(unsigned int a)
 {
     bus_cycles(a, 0, 2);
+    if (mac4_idle_rec)
+        idle_rec_read(a, 4);
     if (mac4_gdb_watching)
         gdbstub_access(a, 4, 0);
     const uint8_t *m = mem_fast(a & 0xFFFFFF, 4);
@@ -125,6 +132,8 @@ static inline uint8_t *sram_fast(unsigned a, unsigned n)
 void m68k_write_memory_8(unsigned int a, unsigned int v)
 {
     bus_cycles(a, 1, 1);
+    if (mac4_idle_rec)
+        idle_rec_write(a, v, 1);
     if (mac4_gdb_watching)
         gdbstub_access(a, 1, 1);
     uint8_t *m = sram_fast(a, 1);
@@ -136,6 +145,8 @@ void m68k_write_memory_8(unsigned int a, unsigned int v)
 void m68k_write_memory_16(unsigned int a, unsigned int v)
 {
     bus_cycles(a, 1, 1);
+    if (mac4_idle_rec)
+        idle_rec_write(a, v, 2);
     if (mac4_gdb_watching)
         gdbstub_access(a, 2, 1);
     uint8_t *m = sram_fast(a, 2);
@@ -149,6 +160,8 @@ void m68k_write_memory_16(unsigned int a, unsigned int v)
 void m68k_write_memory_32(unsigned int a, unsigned int v)
 {
     bus_cycles(a, 1, 2);
+    if (mac4_idle_rec)
+        idle_rec_write(a, v, 4);
     if (mac4_gdb_watching)
         gdbstub_access(a, 4, 1);
     uint8_t *m = sram_fast(a, 4);
@@ -166,12 +179,12 @@ void m68k_write_memory_32(unsigned int a, unsigned int v)
  * patch 0006-fetch-window): the same words, the same wait states charged
  * and counted per bus cycle as bus_cycles() would.  Off under gdb, whose
  * watchpoints see every access, and with --no-fast. */
-static void fetch_window_set(void)
+void cpu_m68k_fetch_window(void)
 {
     unsigned r = buswait_page[EPROM_BASE >> 8];
     m68k_fetch_window.mem = g_sim->eprom;
     m68k_fetch_window.base = EPROM_BASE;
-    m68k_fetch_window.span = mac4_fast && !mac4_gdb_on ? EPROM_SIZE - 1 : 0;
+    m68k_fetch_window.span = in_slice && mac4_fast && !mac4_gdb_on ? EPROM_SIZE - 1 : 0;
     m68k_fetch_window.wait = buswait_cfg.ws[r][0];
     m68k_fetch_window.bus_cycles = &buswait_stats.cycles[r][0];
     m68k_fetch_window.wait_clocks = &buswait_stats.wait[r][0];
@@ -221,6 +234,7 @@ int mac4_int_ack(int level)
          * whenever the handler touched no I/O register. */
         sim_update_irq(g_sim);
     }
+    idle_irq();
     irq_enter(g_sim, level);
     expect_vector = 1;
     /* the acknowledge cycle: through VPA, synchronised to E (buswait.h) */
@@ -248,6 +262,7 @@ static void m68k_cpu_reset(sim_t *s)
 {
     (void)s;
     expect_vector = 0;
+    idle_reset();
     m68k_pulse_reset();
 }
 
@@ -261,7 +276,8 @@ static cyc_t m68k_cpu_execute(sim_t *s, cyc_t max)
     in_slice = 1;
     slice_done = 0;
     for (;;) {
-        fetch_window_set();
+        cpu_m68k_fetch_window();
+        idle_slice_start(s->slice_base + slice_done);
         profile_slice_start();
         int ran = m68k_execute((int)(max - slice_done));
         profile_slice_end(ran);
@@ -285,6 +301,15 @@ static cyc_t m68k_cpu_execute(sim_t *s, cyc_t max)
     return slice_done;
 }
 
+/* m68k_set_irq only latches the level: Musashi takes an interrupt at
+ * m68k_execute's entry (every slice, after the devices' events) and
+ * whenever SR changes (m68ki_set_sr: RTE, MOVE/ANDI to SR, so the end of a
+ * masked section such as serial.c's TXIE enable).  A line an I/O access
+ * raises mid-slice with the mask already low waits for the slice's end;
+ * in the timing and fast-identical scenarios the only such raise is the
+ * SSI-delayed tick seen by the slice's last instruction, taken after it as
+ * on the 68000.  The idle skip relies on this: no interrupt inside a
+ * window run at the request level it was recorded under (idle.c). */
 static void m68k_cpu_set_irq(int level) { m68k_set_irq((unsigned)level); }
 static int m68k_cpu_halted(void) { return (m68ki_cpu.stopped & STOP_LEVEL_HALT) != 0; }
 

@@ -6,6 +6,8 @@
 #include "sim.h"
 #include "buswait.h"
 
+void (*dp_written)(void);
+
 uint16_t dp_rd16(sim_t *s, uint32_t off)
 {
     off &= 0xFFFE;
@@ -19,6 +21,8 @@ uint32_t dp_rd32(sim_t *s, uint32_t off)
 
 void dp_wr16(sim_t *s, uint32_t off, uint16_t v)
 {
+    if (dp_written)           /* the CPU may read it (the idle skip, idle.c) */
+        dp_written();
     off &= 0xFFFE;
     s->dpram[off] = (uint8_t)(v >> 8);
     s->dpram[off + 1] = (uint8_t)v;

@@ -45,6 +45,8 @@ unsigned int m68k_read_disassembler_32(unsigned int a) { return m68k_read_memory
 /* the hooks harness/musashi_cnf.h names */
 int mac4_profiling;
 int mac4_gdb_on;                                    /* no gdb stub here */
+unsigned mac4_idle_pc = 1;                          /* no idle skip here: odd, never a PC */
+void mac4_idle_instr(unsigned pc) { (void)pc; }
 int mac4_gdb_instr(unsigned pc) { (void)pc; return 0; }
 void mac4_profile_instr(unsigned pc) { (void)pc; }
 int mac4_int_ack(int level)

@@ -12,6 +12,7 @@
 #include "buswait.h"
 #include "gdbstub.h"
 #include "panel.h"
+#include "idle.h"
 
 static sim_t card;
 
@@ -38,6 +39,8 @@ static void usage(FILE *f)
             "  --allow-faults       no exit status 3 or 4: faults are what the test wants\n"
             "  --no-fast            every emulator speedup off (same output, slower;\n"
             "                       docs/performance.md)\n"
+            "  --idle-stats         at the end, on stderr: what the idle skip did\n"
+            "                       (docs/performance.md, \"The idle skip\")\n"
             "  --serial-pty         front-panel serial line on a pseudo-terminal (prints\n"
             "                       'serial-pty /dev/pts/N'); after the script the card\n"
             "                       keeps running in real time until the pty is closed\n"
@@ -79,6 +82,7 @@ int main(int argc, char **argv)
     int allow_faults = 0, timestamps = 0, level = 3, j11 = 1;
     serial_opts_t serial = {SERIAL_CONN_NONE, NULL, 0, NULL};   /* docs/serial.md */
     double serve_seconds = 0;
+    int idle_stats_on = 0;       /* --idle-stats */
     int gdb_port = -1;           /* --gdb: docs/debugging.md */
     int panel_port = -1;         /* --panel: docs/debugging.md */
     for (int i = 1; i < argc; i++) {
@@ -128,6 +132,8 @@ int main(int argc, char **argv)
             timestamps = 1;
         } else if (!strcmp(a, "--no-fast")) {
             mac4_fast = 0;
+        } else if (!strcmp(a, "--idle-stats")) {
+            idle_stats_on = 1;
         } else if (!strcmp(a, "--allow-faults")) {
             allow_faults = 1;
         } else if (!strcmp(a, "--serial-pty") || (!strcmp(a, "--serial-pty-link") && val)) {
@@ -246,6 +252,8 @@ int main(int argc, char **argv)
         return 1;
     serial_host_serve(&card, serve_seconds);
     bench_serve(&card, serve_seconds);   /* while the panel is open or gdb attached */
+    if (idle_stats_on)
+        idle_print_stats(stderr);
     /* the card stopped with an error: a boot step (2., 3.) or F. (firmware/boot.c) */
     if (card.faults && !allow_faults)
         return 3;

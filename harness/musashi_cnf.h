@@ -55,8 +55,20 @@ void mac4_profile_instr(unsigned pc);
  * system test fails if the hook ever moves out of that loop). */
 extern int mac4_gdb_on;
 int mac4_gdb_instr(unsigned pc);
+/* The idle skip (harness/idle.c): it watches one PC; while it records a
+ * window it sees every instruction through mac4_profile_instr (bit 1 of
+ * mac4_profiling).  Only in the core mac4sim and mac4bare share
+ * (MAC4_IDLE_HOOK, Makefile MUSCFLAGS), not in the stock reference. */
+#ifdef MAC4_IDLE_HOOK
+extern unsigned mac4_idle_pc;
+void mac4_idle_instr(unsigned pc);
+#define M68K_INSTRUCTION_CALLBACK(pc) \
+    if (mac4_gdb_on && mac4_gdb_instr(pc)) break; else if (mac4_profiling) mac4_profile_instr(pc); \
+    else if ((pc) == mac4_idle_pc) mac4_idle_instr(pc)
+#else
 #define M68K_INSTRUCTION_CALLBACK(pc) \
     if (mac4_gdb_on && mac4_gdb_instr(pc)) break; else if (mac4_profiling) mac4_profile_instr(pc)
+#endif
 /* The bus cycles Musashi makes no memory callback for (our patch
  * harness/musashi-patches/0001-bus-cycles.patch; docs/cpu-timing.md):
  * n reads at address (n < 0: fewer).  Memory callbacks, a long one as

@@ -783,10 +783,13 @@ static int cmd_perf(script_t *sc, sim_t *s, char **tok, int n)
                 devnull = fopen("/dev/null", "w");
             if (!saved_out)
                 saved_out = s->out;
-            if (devnull)
+            if (devnull) {
                 s->out = devnull;
+                s->quiet = 1;      /* sim_printf formats nothing for it */
+            }
         } else if (saved_out) {
             s->out = saved_out;
+            s->quiet = 0;
         }
         return 0;
     }

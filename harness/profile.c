@@ -12,6 +12,7 @@
 #include <string.h>
 #include "m68k.h"
 #include "profile.h"
+#include "idle.h"
 #include "mac4_map.h"
 
 int mac4_profiling;
@@ -91,7 +92,7 @@ static void (*instr_hook)(unsigned pc);
 void profile_set_hook(void (*hook)(unsigned pc))
 {
     instr_hook = hook;
-    mac4_profiling = accounting || instr_hook;
+    mac4_profiling = (accounting || instr_hook) | (mac4_profiling & MAC4_PROFILING_IDLE);
 }
 
 int profile_symbol(const char *name, uint32_t *addr)
@@ -125,6 +126,8 @@ static void charge(int now)
 
 void mac4_profile_instr(unsigned pc)
 {
+    if (mac4_profiling & MAC4_PROFILING_IDLE)
+        mac4_idle_instr(pc);         /* the idle skip records (idle.c) */
     if (instr_hook)
         instr_hook(pc);
     if (!accounting)
@@ -149,7 +152,7 @@ void profile_slice_end(int ran)
 void profile_set(int on)
 {
     accounting = on;
-    mac4_profiling = accounting || instr_hook;
+    mac4_profiling = (accounting || instr_hook) | (mac4_profiling & MAC4_PROFILING_IDLE);
     have_last = 0;
 }
 

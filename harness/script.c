@@ -205,9 +205,11 @@ int script_line(script_t *sc, sim_t *s, char *line)
             return -1;
         if (script_parse_num(tok[2], &v))
             return script_err(sc, "bad value '%s'", tok[2]);
-        if (w == 1)
+        if (w == 1) {
             s->dpram[off] = (uint8_t)v;
-        else if (w == 2)
+            if (dp_written)
+                dp_written();
+        } else if (w == 2)
             dp_wr16(s, off, (uint16_t)v);
         else
             dp_wr32(s, off, (uint32_t)v);

@@ -52,6 +52,8 @@ cyc_t sim_now(sim_t *s) { return s->slice_base + s->cpu_elapsed(); }
 
 void sim_printf(sim_t *s, const char *fmt, ...)
 {
+    if (s->quiet)
+        return;
     if (s->timestamps) {
         cyc_t now = sim_now(s);
         fprintf(s->out, "@%llu.%03llums ", (unsigned long long)(now / 16000u),

@@ -107,6 +107,7 @@ typedef struct sim {
 
     FILE *out;                     /* where events are printed */
     int timestamps;
+    int quiet;                     /* `perf quiet on`: out is /dev/null, events are not even formatted */
 
     /* ---- added for measurement and the differential test (harness/perf.c,
      * docs/performance.md).  All hooks are NULL unless perf.c sets them. ---- */
@@ -144,6 +145,9 @@ extern sim_t *g_sim;
 uint32_t bus_read(sim_t *s, uint32_t addr, int size);           /* size 1, 2 or 4 */
 void bus_write(sim_t *s, uint32_t addr, uint32_t v, int size);
 void sim_fault(sim_t *s, const char *fmt, ...);
+/* reads through the bus map (every CPU read but the memories' fast path):
+ * the idle skip records no window after a pass that made one (idle.c) */
+extern uint64_t bus_reads;
 
 /* periph.c: the device table */
 void periph_connect(sim_t *s);     /* wire the signals (sim_init) */
@@ -172,6 +176,7 @@ cyc_t sim_axis_peek(sim_t *s);     /* the same without counting an access */
 uint32_t dp_rd32(sim_t *s, uint32_t off);
 uint16_t dp_rd16(sim_t *s, uint32_t off);
 void dp_wr32(sim_t *s, uint32_t off, uint32_t v);
+extern void (*dp_written)(void);   /* after every dp_wr16 (and a script's poke8), if set */
 void dp_wr16(sim_t *s, uint32_t off, uint16_t v);
 int host_send(sim_t *s, uint8_t axis, uint16_t code, uint32_t param, uint8_t source);
 int host_poll_responses(sim_t *s);

@@ -42,6 +42,9 @@ SECONDS = float(os.environ.get("BENCH_SECONDS", "20"))
 REPEAT = int(os.environ.get("BENCH_REPEAT", "5"))
 BARE = os.path.join(ps.BUILD, "mac4bare")
 BARE_STOCK = os.path.join(ps.BUILD, "mac4bare-stock")
+# BENCH_BASELINE=PATH: another mac4sim (say the build before a change) timed
+# in the same run, interleaved, on the same EPROM image: before and after
+BASELINE = os.environ.get("BENCH_BASELINE")
 # the emulator against the stock bare core (speed_section)
 AIM_BENCH_VS_STOCK = 1.5
 AIM_IDLE_VS_STOCK = 3.0
@@ -83,9 +86,10 @@ def child_cpu(cmd, stdin=None):
     return p.stdout, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
-def sim_speed(script, extra=()):
+def sim_speed(script, extra=(), binary=None):
     """mac4sim on the INC image: (emulated seconds per CPU second, cycles, CPU s)."""
-    out, cpu = child_cpu([ps.SIM, "--card", "inc"] + list(extra) + ["--script", "-"], script)
+    image = ["--image", os.path.join(ps.BUILD, "eprom", "mac4-inc.bin")] if binary else []
+    out, cpu = child_cpu([binary or ps.SIM, "--card", "inc"] + image + list(extra) + ["--script", "-"], script)
     cyc = [int(x.split("=")[1]) for x in out.split() if x.startswith("cycles=")][-1]
     return cyc / ps.CPU_HZ / cpu, cyc, cpu
 
@@ -114,6 +118,9 @@ def speed_section():
              ("idle_no_fast", lambda: sim_speed(idle_script(SECONDS), ["--no-fast"])),
              ("bare", lambda: bare_speed(BARE)),
              ("stock", lambda: bare_speed(BARE_STOCK))]
+    if BASELINE:
+        kinds += [("bench_baseline", lambda: sim_speed(bench_script(SECONDS), binary=BASELINE)),
+                  ("idle_baseline", lambda: sim_speed(idle_script(SECONDS), binary=BASELINE))]
     runs = {k: [] for k, _ in kinds}
     for _ in range(REPEAT):          # alternate, so all see the same machine load
         for k, f in kinds:
@@ -228,8 +235,12 @@ def main():
               "idle": "mac4sim  INC, axes enabled at rest, no host",
               "idle_no_fast": "mac4sim  the same, --no-fast",
               "bare": "mac4bare the same image, plain memory",
-              "stock": "mac4bare-stock, unpatched Musashi"}
+              "stock": "mac4bare-stock, unpatched Musashi",
+              "bench_baseline": "BENCH_BASELINE, the bench scenario",
+              "idle_baseline": "BENCH_BASELINE, the idle card"}
     for k, label in labels.items():
+        if k not in speed:
+            continue
         vs = "" if k == "stock" else "  %.2fx the stock bare core" % ratio[k]
         print("  %-46s %8.1f x real time%s" % (label, speed[k], vs))
     full, bare = speed["bench"], speed["bare"]

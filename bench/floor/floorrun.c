@@ -231,6 +231,8 @@ unsigned int m68k_read_disassembler_32(unsigned int a) { return m_rd32(a); }
 int mac4_profiling;
 int mac4_gdb_on;
 int mac4_gdb_instr(unsigned pc) { (void)pc; return 0; }
+unsigned mac4_idle_pc = 1;                          /* no idle skip here: odd, never a PC */
+void mac4_idle_instr(unsigned pc) { (void)pc; }
 
 static uint32_t call_entry, call_ret;
 static int call_state;               /* 0 before the entry, 1 inside, 2 returned */

@@ -37,6 +37,8 @@
 /* ---- the hooks harness/musashi_cnf.h names (cpu_m68k.c gives mac4sim's) -- */
 int mac4_profiling;
 int mac4_gdb_on;                                    /* no gdb stub here */
+unsigned mac4_idle_pc = 1;                          /* no idle skip here: odd, never a PC */
+void mac4_idle_instr(unsigned pc) { (void)pc; }
 int mac4_gdb_instr(unsigned pc) { (void)pc; return 0; }
 void mac4_profile_instr(unsigned pc) { (void)pc; }
 static unsigned nacks;

@@ -44,12 +44,13 @@ TOOLS = {
     "sigrok-cli": "sigrok-cli",
     "chromium": "chromium",
     "chromedriver": "chromium-driver",
+    "valgrind": "valgrind",
     "dpkg-query": "essential",
     "apt-get": "essential",
 }
 # Tools a test or a document might reach for that no list provides today:
 # using one must add it to TOOLS and its package to apt.txt first.
-UNLISTED = ["socat", "xxd", "valgrind", "gnuplot", "iverilog", "pulseview", "picocom", "minicom",
+UNLISTED = ["socat", "xxd", "gnuplot", "iverilog", "pulseview", "picocom", "minicom",
             "shellcheck", "srec_cmp", "qemu-system-m68k", "m68k-elf-gcc", "vasm", "lcov", "gcovr",
             "afl-fuzz", "hexdump", "ncat", "jq", "xvfb-run", "firefox", "geckodriver"]
 # Named in the docs as one choice among any the user has; nothing of the

@@ -35,6 +35,8 @@ static uint64_t made[BW_NREGIONS][2];    /* the core's bus cycles in this test *
 /* musashi_cnf.h's hooks */
 int mac4_profiling;
 int mac4_gdb_on;                                    /* no gdb stub here */
+unsigned mac4_idle_pc = 1;                          /* no idle skip here: odd, never a PC */
+void mac4_idle_instr(unsigned pc) { (void)pc; }
 int mac4_gdb_instr(unsigned pc) { (void)pc; return 0; }
 void mac4_profile_instr(unsigned pc) { (void)pc; }
 int mac4_int_ack(int level) { (void)level; return (int)M68K_INT_ACK_AUTOVECTOR; }
