@@ -298,6 +298,13 @@
  */
 #define MAC4_IACK_AUTOVECTOR_CLOCKS    19
 #define MAC4_IACK_VECTORED_WAIT        2
+/* The bus timer: a bus cycle no device acknowledges (no DTACK: an address outside
+ * every window above, a write to the EPROM, a byte write to a word-wide I/O register) ends
+ * with /BERR this many clocks after its start, and the 68000 takes a bus error (docs/board.md,
+ * "Bus errors").  Well above the slowest cycle a device answers (the VMEbus window's 16 clocks,
+ * plus a DPRAM word the host holds).
+ */
+#define MAC4_BUS_TIMEOUT_CLOCKS        64
 #define MAC4_BUS_TIMING(X) \
     X("dpram",    DPRAM_BASE,           DPRAM_SIZE,                   1,   1) \
     X("eprom",    EPROM_BASE,           EPROM_SIZE,                   1,   1) \

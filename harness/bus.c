@@ -4,7 +4,10 @@
  * its rows generated from the board description (bus_map.h).  68000 long accesses are two word cycles, high word first, as on
  * the card's 16-bit bus.  Accesses outside every region, writes to the
  * EPROM and byte writes to word-wide I/O registers are faults: reported
- * with the PC, never ignored.
+ * with the PC, never ignored.  They are also the bus cycles no device
+ * acknowledges, which the card's bus timer ends with /BERR (docs/board.md,
+ * "Bus errors"): bus_berr tells the 68000 (cpu_m68k.c), which takes the
+ * bus error; a long access stops at the word that got it.
  */
 #include <stdarg.h>
 #include <string.h>
@@ -20,7 +23,7 @@ void sim_fault(sim_t *s, const char *fmt, ...)
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
     s->faults++;
-    uint32_t pc = s->cpu_pc ? s->cpu_pc() : 0;
+    uint32_t pc = s->cpu_pc ? s->cpu_pc() & 0xFFFFFF : 0;   /* 24 address lines */
     sim_printf(s, "fault %s pc=$%06X\n", msg, pc);
     if (s->on_fault)
         s->on_fault(s);           /* gdb stops after the instruction, SIGSEGV (gdbstub.c) */
@@ -50,11 +53,22 @@ static uint32_t dpram_rd(sim_t *s, uint32_t a, int size)
 }
 static void dpram_wr(sim_t *s, uint32_t a, uint32_t v, int size) { mem_wr(s->dpram, a, v, size); }
 static uint32_t eprom_rd(sim_t *s, uint32_t a, int size) { return mem_rd(s->eprom, a, size); }
+int bus_berr;                   /* a bus cycle got /BERR, at bus_berr_addr */
+uint32_t bus_berr_addr;
+
+static void berr(uint32_t addr)
+{
+    bus_berr = 1;
+    bus_berr_addr = addr;
+}
+
 static void eprom_wr(sim_t *s, uint32_t a, uint32_t v, int size)
 {
     (void)v;
     (void)size;
+    /* the EPROMs' selects are decoded for reads only: no DTACK */
     sim_fault(s, "write to EPROM at $%06X", (unsigned)(EPROM_BASE + a));
+    berr(EPROM_BASE + a);
 }
 static uint32_t sram_rd(sim_t *s, uint32_t a, int size)
 {
@@ -98,6 +112,7 @@ static uint32_t rd1(sim_t *s, uint32_t addr, int size)
     const region_t *r = find(addr);
     if (!r) {
         sim_fault(s, "unmapped read%d at $%06X", size * 8, (unsigned)addr);
+        berr(addr);
         return size == 1 ? 0xFF : 0xFFFF;
     }
     uint32_t off = addr - r->start;
@@ -117,10 +132,12 @@ static void wr1(sim_t *s, uint32_t addr, uint32_t v, int size)
     const region_t *r = find(addr);
     if (!r) {
         sim_fault(s, "unmapped write%d at $%06X", size * 8, (unsigned)addr);
+        berr(addr);
         return;
     }
-    if (r->word_io && size == 1) {
+    if (r->word_io && size == 1) {   /* the I/O decoder acknowledges word writes only */
         sim_fault(s, "byte write to word register at $%06X", (unsigned)addr);
+        berr(addr);
         return;
     }
     r->dev->win[r->win].wr(s, addr - r->start, v, size);
@@ -133,21 +150,40 @@ uint64_t bus_reads;
 uint32_t bus_read(sim_t *s, uint32_t addr, int size)
 {
     bus_reads++;
+    bus_berr = 0;
     addr &= 0xFFFFFF;                         /* 24 address lines */
-    if (size == 4)
-        return rd1(s, addr, 2) << 16 | rd1(s, (addr + 2) & 0xFFFFFF, 2);
+    if (size == 4) {
+        uint32_t hi = rd1(s, addr, 2);
+        if (bus_berr)             /* the 68000 makes no second cycle */
+            return hi << 16 | 0xFFFF;
+        return hi << 16 | rd1(s, (addr + 2) & 0xFFFFFF, 2);
+    }
     return rd1(s, addr, size);
 }
 
 void bus_write(sim_t *s, uint32_t addr, uint32_t v, int size)
 {
+    bus_berr = 0;
     addr &= 0xFFFFFF;
     if (size == 4) {
         wr1(s, addr, v >> 16, 2);
-        wr1(s, (addr + 2) & 0xFFFFFF, v & 0xFFFF, 2);
+        if (!bus_berr)
+            wr1(s, (addr + 2) & 0xFFFFFF, v & 0xFFFF, 2);
     } else {
         wr1(s, addr, v, size);
     }
     if (s->on_bus_write)          /* measurement (perf.c): after the whole write */
         s->on_bus_write(s, addr, v, size);
+}
+
+/* Would a bus cycle there be acknowledged?  No side effect (the check of a
+ * handler's first words, cpu_m68k.c). */
+int bus_decodes(uint32_t addr, int write, int size)
+{
+    const region_t *r = find(addr & 0xFFFFFF);
+    if (!r)
+        return 0;
+    if (write && (r->dev == &eprom_device || (r->word_io && size == 1)))
+        return 0;
+    return 1;
 }

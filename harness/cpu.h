@@ -24,5 +24,7 @@ void sim_reset(sim_t *s, const char *why);
 void sim_run(sim_t *s, cyc_t cycles);
 void sim_update_irq(sim_t *s);
 extern int sim_halted;
+/* why the CPU halted, set by its halted() for run.c's report: ": ..." or "" */
+extern char sim_halt_why[200];
 
 #endif

@@ -1,8 +1,10 @@
 /*
  * cpu_m68k.c - Musashi as the IPC's 68000: memory callbacks onto the bus,
- * interrupt acknowledge (autovectors) and RTE for the accounting, and the
- * detection of exceptions the firmware did not expect (vector fetches that
- * are not interrupt acknowledges), illegal opcodes and double bus faults.
+ * interrupt acknowledge (autovectors) and RTE for the accounting, bus
+ * errors (a bus cycle no device acknowledged, our patch 0007) and the halt
+ * of a double bus fault, and the detection of exceptions the firmware did
+ * not expect (vector fetches that are not interrupt acknowledges) and
+ * illegal opcodes.
  */
 #include "m68k.h"
 #include "m68kcpu.h"
@@ -90,6 +92,65 @@ static inline __attribute__((always_inline)) void bus_cycles(unsigned a, int wri
         USE_CYCLES((int)w);
 }
 
+/* A bus cycle of the access at a got /BERR at bus_berr_addr (bus.c): the
+ * card's bus timer ended it MAC4_BUS_TIMEOUT_CLOCKS after its start, and the
+ * 68000 takes the bus error (m68k_bus_error, our patch 0007), which leaves
+ * this callback by longjmp.  The registers stay as the instruction left
+ * them, as on the 68000.  Time: Musashi adds an instruction's clocks at its
+ * end, which a bus error never reaches, so the instruction's words fetched
+ * before the fault are charged here at 4 clocks each (their wait states
+ * were as they were made; its data cycles before the faulting one are not
+ * known and not counted), then the faulting cycle's whole length, then the
+ * exception's 50 (the patch).  A long access that faulted on its first word
+ * made no second cycle: its charge is taken back.  Outside m68k_execute
+ * (the reset's vector fetch, always from the EPROM) it stays a fault
+ * report. */
+static void bus_error(unsigned a, int write, int size)
+{
+    if (!in_slice)
+        return;
+    unsigned at = bus_berr_addr & 0xFFFFFF;
+    unsigned r = buswait_page[at >> 8];
+    unsigned ppc = REG_PPC & 0xFFFFFF, pc = REG_PC & 0xFFFFFF;
+    unsigned words = CPU_INSTR_MODE == INSTRUCTION_NO ? 0          /* exception processing */
+                   : at - ppc < pc - ppc ? (at - ppc) / 2           /* a fetch of the instruction */
+                   : ((pc - ppc) & 0xFFFFFF) / 2;
+    int extra = 4 * (int)words + MAC4_BUS_TIMEOUT_CLOCKS - (int)buswait_cfg.ws[r][write];
+    if (size == 4 && at == (a & 0xFFFFFF)) {
+        unsigned r2 = buswait_page[at >> 8], w2 = buswait_cfg.ws[r2][write];
+        buswait_stats.cycles[r2][write]--;
+        buswait_stats.wait[r2][write] -= w2;
+        extra -= (int)w2;
+    }
+    if (extra > 0)
+        buswait_stats.wait[r][write] += (unsigned)extra;
+    USE_CYCLES(extra);
+    idle_irq();                   /* the flow leaves the instruction: no idle window */
+    m68k_bus_error(at, write);
+}
+
+/* The 68000's exception processing for a bus error, an address error or
+ * the reset ends with the prefetch of the handler's first two words; a bus
+ * error there is a double bus fault.  Musashi reads the first word with the
+ * next instruction, so the refill of a group-0 exception (its
+ * mac4_bus_extra at the handler + 2, still in the exception) checks both
+ * and makes the bus error while the CPU is in that processing: the halt.
+ * An odd handler is the patch's address error, next. */
+static void group0_prefetch(unsigned a)
+{
+    a &= 0xFFFFFF;
+    if (a & 1)
+        return;
+    unsigned words[2] = {(a - 2) & 0xFFFFFF, a};
+    for (int i = 0; i < 2; i++) {
+        if (!bus_decodes(words[i], 0, 2)) {
+            sim_fault(g_sim, "unmapped read16 at $%06X", words[i]);
+            m68ki_bus_program = 1;          /* a fetch: program space */
+            m68k_bus_error(words[i], 0);
+        }
+    }
+}
+
 unsigned int m68k_read_memory_8(unsigned int a)
 {
     bus_cycles(a, 0, 1);
@@ -98,7 +159,12 @@ unsigned int m68k_read_memory_8(unsigned int a)
     if (mac4_gdb_watching)
         gdbstub_access(a, 1, 0);
     const uint8_t *m = mem_fast(a & 0xFFFFFF, 1);
-    return m ? m[0] : bus_read(g_sim, a, 1);
+    if (m)
+        return m[0];
+    unsigned v = bus_read(g_sim, a, 1);
+    if (bus_berr)
+        bus_error(a, 0, 1);
+    return v;
 }
 unsigned int m68k_read_memory_16(unsigned int a)
 {
@@ -108,7 +174,12 @@ unsigned int m68k_read_memory_16(unsigned int a)
     if (mac4_gdb_watching)
         gdbstub_access(a, 2, 0);
     const uint8_t *m = mem_fast(a & 0xFFFFFF, 2);
-    return m ? (unsigned)m[0] << 8 | m[1] : bus_read(g_sim, a, 2);
+    if (m)
+        return (unsigned)m[0] << 8 | m[1];
+    unsigned v = bus_read(g_sim, a, 2);
+    if (bus_berr)
+        bus_error(a, 0, 2);
+    return v;
 }
 unsigned int m68k_read_memory_32(unsigned int a)
 {
@@ -122,7 +193,10 @@ unsigned int m68k_read_memory_32(unsigned int a)
         return (unsigned)m[0] << 24 | (unsigned)m[1] << 16 | (unsigned)m[2] << 8 | m[3];
     if ((a & 0xFFFFFF) < 0x400)
         check_vector_fetch(a & 0xFFFFFF);
-    return bus_read(g_sim, a, 4);
+    unsigned v = bus_read(g_sim, a, 4);
+    if (bus_berr)
+        bus_error(a, 0, 4);
+    return v;
 }
 static inline uint8_t *sram_fast(unsigned a, unsigned n)
 {
@@ -137,10 +211,13 @@ void m68k_write_memory_8(unsigned int a, unsigned int v)
     if (mac4_gdb_watching)
         gdbstub_access(a, 1, 1);
     uint8_t *m = sram_fast(a, 1);
-    if (m)
+    if (m) {
         m[0] = (uint8_t)v;
-    else
-        bus_write(g_sim, a, v, 1);
+        return;
+    }
+    bus_write(g_sim, a, v, 1);
+    if (bus_berr)
+        bus_error(a, 1, 1);
 }
 void m68k_write_memory_16(unsigned int a, unsigned int v)
 {
@@ -155,6 +232,8 @@ void m68k_write_memory_16(unsigned int a, unsigned int v)
         m[1] = (uint8_t)v;
     } else {
         bus_write(g_sim, a, v, 2);
+        if (bus_berr)
+            bus_error(a, 1, 2);
     }
 }
 void m68k_write_memory_32(unsigned int a, unsigned int v)
@@ -172,6 +251,8 @@ void m68k_write_memory_32(unsigned int a, unsigned int v)
         m[3] = (uint8_t)v;
     } else {
         bus_write(g_sim, a, v, 4);
+        if (bus_berr)
+            bus_error(a, 1, 4);
     }
 }
 
@@ -199,6 +280,8 @@ void mac4_bus_extra(unsigned address, int n)
 {
     if (n > 0) {
         bus_cycles(address, 0, (unsigned)n);
+        if (m68ki_cpu.run_mode == RUN_MODE_BERR_AERR_RESET_WSF && in_slice)
+            group0_prefetch(address);
     } else if (n < 0 && in_slice) {
         unsigned w = buswait_refund(address & 0xFFFFFF, (unsigned)-n);
         if (w)
@@ -258,12 +341,36 @@ int mac4_illegal(int opcode)
 
 void mac4_reset_instr(void) { /* RESET resets external devices only: none are wired */ }
 
+static int reset_halt;       /* the reset's first fetch faulted: why the CPU halts */
+
 static void m68k_cpu_reset(sim_t *s)
 {
     (void)s;
     expect_vector = 0;
     idle_reset();
     m68k_pulse_reset();
+    /* The reset's exception processing ends with the prefetch of the first
+     * two words at the initial PC: an odd one is an address error, one no
+     * device answers a bus error, each a double bus fault (MC68000UM 6.3.9). */
+    unsigned pc = m68k_get_reg(NULL, M68K_REG_PC) & 0xFFFFFF;
+    reset_halt = (pc & 1) ? 3 : !bus_decodes(pc, 0, 2) || !bus_decodes(pc + 2, 0, 2) ? 2 : 0;
+    if (reset_halt) {
+        m68ki_aerr_address = (pc & 1) || !bus_decodes(pc, 0, 2) ? pc : pc + 2;
+        m68ki_aerr_write_mode = MODE_READ;
+        m68ki_aerr_fc = 6;                   /* supervisor program */
+        m68k_pulse_halt();
+    }
+}
+
+/* What halted the CPU, for run.c's report (once per halt). */
+static void halt_reason(void)
+{
+    static const char *const what[] = {"the reset", "", "a bus error", "an address error"};
+    unsigned first = reset_halt ? 0 : m68k_double_fault[0], second = reset_halt ? (unsigned)reset_halt : m68k_double_fault[1];
+    snprintf(sim_halt_why, sizeof sim_halt_why, ": %s at $%06X (%s, FC %u) in the exception processing of %s",
+             second == 2 ? "bus error" : "address error", m68ki_aerr_address & 0xFFFFFF,
+             m68ki_aerr_write_mode == MODE_WRITE ? "write" : "read", m68ki_aerr_fc & 7,
+             what[first < 4 ? first : 1]);
 }
 
 static cyc_t m68k_cpu_execute(sim_t *s, cyc_t max)
@@ -311,7 +418,13 @@ static cyc_t m68k_cpu_execute(sim_t *s, cyc_t max)
  * on the 68000.  The idle skip relies on this: no interrupt inside a
  * window run at the request level it was recorded under (idle.c). */
 static void m68k_cpu_set_irq(int level) { m68k_set_irq((unsigned)level); }
-static int m68k_cpu_halted(void) { return (m68ki_cpu.stopped & STOP_LEVEL_HALT) != 0; }
+static int m68k_cpu_halted(void)
+{
+    if (!(m68ki_cpu.stopped & STOP_LEVEL_HALT))
+        return 0;
+    halt_reason();
+    return 1;
+}
 
 static void m68k_cpu_attach(void)
 {

@@ -62,8 +62,9 @@ static void usage(FILE *f)
             "                       --serve-seconds N bounds that too\n"
             "  --help               this text\n"
             "Exit status (the first that applies, in this order): 1 usage or script error,\n"
-            "  3 the emulator saw a fault, 4 the card ended stopped with an error (display\n"
-            "  X.: a boot step failed, F.), 2 a wait-display timed out; else 0.\n");
+            "  3 the emulator saw a fault (a bus error, a double bus fault that halted the\n"
+            "  CPU, ...), 4 the card ended stopped with an error (display X.: a boot step\n"
+            "  failed, F.), 2 a wait-display timed out; else 0.\n");
 }
 
 /* A TCP port on 127.0.0.1 in decimal, 0..65535 (0: any free one); -1 if not. */
@@ -254,6 +255,8 @@ int main(int argc, char **argv)
     bench_serve(&card, serve_seconds);   /* while the panel is open or gdb attached */
     if (idle_stats_on)
         idle_print_stats(stderr);
+    if (sim_halted)   /* a double bus fault, and no reset since (docs/board.md, "Bus errors") */
+        fprintf(stderr, "mac4sim: the CPU is halted (double bus fault): only a reset restarts it\n");
     /* the card stopped with an error: a boot step (2., 3.) or F. (firmware/boot.c) */
     if (card.faults && !allow_faults)
         return 3;

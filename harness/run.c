@@ -8,6 +8,7 @@
 
 static const cpu_t *cpu;
 int sim_halted;
+char sim_halt_why[200];
 
 #define HOST_POLL_CYC US_TO_CYC(500)   /* the VME host looks at the queue every 0.5 ms */
 
@@ -70,9 +71,12 @@ void sim_run(sim_t *s, cyc_t cycles)
         }
         cyc_t ran = cpu->execute(s, next - now);
         s->slice_base = now + (ran ? ran : 1);
-        if (cpu->halted()) {
+        if (cpu->halted()) {      /* reported once: nothing runs until a reset */
             sim_halted = 1;
-            sim_fault(s, "CPU halted (double bus fault)");
+            sim_fault(s, "CPU halted (double bus fault)%s; %s", sim_halt_why,
+                      s->wdg.j11 ? "the watchdog resets the card 100 ms after its last kick"
+                                 : "J11 out: halted until a reset");
+            sim_halt_why[0] = 0;
         }
     }
     periph_events(s, s->slice_base);

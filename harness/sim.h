@@ -148,6 +148,11 @@ void sim_fault(sim_t *s, const char *fmt, ...);
 /* reads through the bus map (every CPU read but the memories' fast path):
  * the idle skip records no window after a pass that made one (idle.c) */
 extern uint64_t bus_reads;
+/* the last bus_read/bus_write got /BERR (no device acknowledged), at
+ * bus_berr_addr (bus.c; docs/board.md "Bus errors") */
+extern int bus_berr;
+extern uint32_t bus_berr_addr;
+int bus_decodes(uint32_t addr, int write, int size);   /* 1: a device acknowledges */
 
 /* periph.c: the device table */
 void periph_connect(sim_t *s);     /* wire the signals (sim_init) */
