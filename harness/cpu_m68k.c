@@ -358,6 +358,7 @@ static void m68k_cpu_reset(sim_t *s)
         m68ki_aerr_address = (pc & 1) || !bus_decodes(pc, 0, 2) ? pc : pc + 2;
         m68ki_aerr_write_mode = MODE_READ;
         m68ki_aerr_fc = 6;                   /* supervisor program */
+        m68k_set_reg(M68K_REG_PPC, pc);      /* the report's pc= */
         m68k_pulse_halt();
     }
 }

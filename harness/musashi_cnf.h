@@ -75,9 +75,10 @@ void mac4_idle_instr(unsigned pc);
  * two, plus these are the 68000's bus cycles of each instruction. */
 void mac4_bus_extra(unsigned address, int n);
 #define M68K_BUS_EXTRA_CALLBACK(A, N) mac4_bus_extra(A, N)
-/* No bus error is ever pulsed here (faults are reported, cpu_m68k.c), so
- * the core saves no registers for one (our patch 0005-bus-error-save):
- * m68k_pulse_bus_error refuses with a message. */
+/* The emulator's bus errors are the 68000's (m68k_bus_error, our patch
+ * 0007; cpu_m68k.c), which leave the registers as the instruction left
+ * them, so the core saves none before every instruction (our patch
+ * 0005-bus-error-save): Musashi's 68010 m68k_pulse_bus_error refuses. */
 #define M68K_EMULATE_BUS_ERROR      OPT_OFF
 #define M68K_EMULATE_PREFETCH       OPT_OFF
 #define M68K_EMULATE_ADDRESS_ERROR  OPT_ON
