@@ -59,12 +59,19 @@ int mac4_gdb_instr(unsigned pc);
  * window it sees every instruction through mac4_profile_instr (bit 1 of
  * mac4_profiling).  Only in the core mac4sim and mac4bare share
  * (MAC4_IDLE_HOOK, Makefile MUSCFLAGS), not in the stock reference. */
-#ifdef MAC4_IDLE_HOOK
 extern unsigned mac4_idle_pc;
 void mac4_idle_instr(unsigned pc);
+/* One test per instruction: the PCs from mac4_hook_lo to mac4_hook_lo +
+ * mac4_hook_span go to the hooks; mac4_hooks_update (cpu_m68k.c), called
+ * whenever mac4_gdb_on, mac4_profiling or mac4_idle_pc changes, makes
+ * that every PC while gdb or the profiler is on, else mac4_idle_pc. */
+extern unsigned mac4_hook_lo, mac4_hook_span;
+void mac4_hooks_update(void);
+#ifdef MAC4_IDLE_HOOK
 #define M68K_INSTRUCTION_CALLBACK(pc) \
-    if (mac4_gdb_on && mac4_gdb_instr(pc)) break; else if (mac4_profiling) mac4_profile_instr(pc); \
-    else if ((pc) == mac4_idle_pc) mac4_idle_instr(pc)
+    if (__builtin_expect((unsigned)(pc) - mac4_hook_lo <= mac4_hook_span, 0)) { \
+        if (mac4_gdb_on && mac4_gdb_instr(pc)) break; else if (mac4_profiling) mac4_profile_instr(pc); \
+        else if ((pc) == mac4_idle_pc) mac4_idle_instr(pc); }
 #else
 #define M68K_INSTRUCTION_CALLBACK(pc) \
     if (mac4_gdb_on && mac4_gdb_instr(pc)) break; else if (mac4_profiling) mac4_profile_instr(pc)
