@@ -81,7 +81,23 @@ void mac4_hooks_update(void);
  * n reads at address (n < 0: fewer).  Memory callbacks, a long one as
  * two, plus these are the 68000's bus cycles of each instruction. */
 void mac4_bus_extra(unsigned address, int n);
+#ifdef MAC4_IDLE_HOOK
+/* In the EPROM and the SRAM, while the core's memory windows are on (our
+ * patch 0008, harness/cpu_m68k.c), charged and counted there as
+ * mac4_bus_extra would: one region each, no device behind them. */
+#define M68K_BUS_EXTRA_CALLBACK(A, N) do { \
+        unsigned mac4_xa = (A); \
+        int mac4_xn = (N); \
+        if (mac4_xn > 0 && mac4_xa - m68k_rom_window.base < m68k_rom_window.n1) \
+            m68ki_window_charge(&m68k_rom_window, 0, mac4_xn); \
+        else if (mac4_xn > 0 && mac4_xa - m68k_ram_window.base < m68k_ram_window.n1) \
+            m68ki_window_charge(&m68k_ram_window, 0, mac4_xn); \
+        else \
+            mac4_bus_extra(mac4_xa, mac4_xn); \
+    } while (0)
+#else
 #define M68K_BUS_EXTRA_CALLBACK(A, N) mac4_bus_extra(A, N)
+#endif
 /* No bus error is ever pulsed here (faults are reported, cpu_m68k.c), so
  * the core saves no registers for one (our patch 0005-bus-error-save):
  * m68k_pulse_bus_error refuses with a message. */
