@@ -9,6 +9,12 @@
 
 buswait_cfg_t buswait_cfg;
 buswait_stats_t buswait_stats;
+void (*buswait_sync)(void);
+static void sync(void)
+{
+    if (buswait_sync)
+        buswait_sync();
+}
 static uint8_t page[1u << 16];
 const uint8_t *buswait_page = page;
 
@@ -138,6 +144,7 @@ static uint64_t marked_at;
 
 void buswait_mark(uint64_t now)
 {
+    sync();
     marked = buswait_stats;
     marked_at = now;
 }
@@ -150,7 +157,11 @@ void buswait_print_mark(FILE *f)
     print_stats(f, &marked);
 }
 
-void buswait_print_stats(FILE *f) { print_stats(f, &buswait_stats); }
+void buswait_print_stats(FILE *f)
+{
+    sync();
+    print_stats(f, &buswait_stats);
+}
 
 static void print_stats(FILE *f, const buswait_stats_t *b)
 {
@@ -165,7 +176,11 @@ static void print_stats(FILE *f, const buswait_stats_t *b)
             (unsigned long long)b->iack_clocks);
 }
 
-void buswait_reset_stats(void) { memset(&buswait_stats, 0, sizeof buswait_stats); }
+void buswait_reset_stats(void)
+{
+    sync();
+    memset(&buswait_stats, 0, sizeof buswait_stats);
+}
 
 /* The host's recent DPRAM accesses: word and the time it holds it. */
 #define HOST_RING 64

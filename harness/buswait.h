@@ -36,6 +36,9 @@ extern buswait_cfg_t buswait_cfg;
 extern buswait_stats_t buswait_stats;
 extern const uint8_t *buswait_page;     /* region of each 256-byte page of the 24-bit space */
 extern const char *const buswait_names[BW_NREGIONS];
+/* Bus cycles counted elsewhere (the core's memory windows, cpu_m68k.c)
+ * put into buswait_stats: called before anything reads them. */
+extern void (*buswait_sync)(void);
 
 void buswait_init(void);                /* the defaults of hal/mac4_map.h */
 /* "N" (every region, both kinds), or a comma list of REGION=N,

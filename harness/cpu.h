@@ -17,6 +17,9 @@ extern const cpu_t cpu_m68k;
  * 0 (mac4sim --no-fast): all off, every fetch through the memory
  * callbacks.  Outputs and cycle counts are the same either way. */
 extern int mac4_fast;
+/* cpu_m68k.c: the core's memory windows set anew for what watches memory
+ * now (the idle skip's recording, gdb, an SRAM fault) */
+void cpu_m68k_windows(void);
 
 /* run.c: the scheduler */
 void sim_attach_cpu(sim_t *s, const cpu_t *cpu);

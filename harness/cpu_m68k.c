@@ -20,6 +20,19 @@ static int expect_vector;   /* an interrupt acknowledge precedes its vector fetc
 static int in_slice;        /* m68k_cycles_run() is only meaningful inside m68k_execute */
 static cyc_t slice_done;    /* cycles of the slice before a gdb stop (gdbstub.c) */
 
+unsigned mac4_hook_lo = 1, mac4_hook_span;   /* musashi_cnf.h: PC 1 alone, as mac4_idle_pc */
+
+void mac4_hooks_update(void)
+{
+    if (mac4_gdb_on || mac4_profiling) {
+        mac4_hook_lo = 0;
+        mac4_hook_span = ~0u;
+    } else {
+        mac4_hook_lo = mac4_idle_pc;
+        mac4_hook_span = 0;
+    }
+}
+
 static cyc_t m68k_elapsed(void) { return in_slice ? slice_done + (cyc_t)m68k_cycles_run() : 0; }
 static uint32_t m68k_pc(void) { return m68k_get_reg(NULL, M68K_REG_PPC); }
 
@@ -256,19 +269,52 @@ void m68k_write_memory_32(unsigned int a, unsigned int v)
     }
 }
 
-/* Opcode and immediate fetches from the EPROM bypass the callbacks (our
- * patch 0006-fetch-window): the same words, the same wait states charged
- * and counted per bus cycle as bus_cycles() would.  Off under gdb, whose
- * watchpoints see every access, and with --no-fast. */
-void cpu_m68k_fetch_window(void)
+/* The memory windows of our patch 0008-memory-windows (m68k.h): opcode,
+ * immediate and data reads of the EPROM, data reads and writes of the SRAM,
+ * without the memory callbacks, the same wait states charged per bus cycle
+ * as bus_cycles() would.  Off with --no-fast and under gdb, whose
+ * watchpoints see every access; the SRAM's also while the idle skip records
+ * (it sees every access) and with an injected SRAM fault (the bus map makes
+ * it).  Set at every slice and when a recording starts or ends.  A window
+ * counts its bus cycles itself; they go into buswait_stats before anything
+ * reads those (buswait_sync) and at every change of a window. */
+static int win_region[2];
+
+static void windows_sync(void)
 {
-    unsigned r = buswait_page[EPROM_BASE >> 8];
-    m68k_fetch_window.mem = g_sim->eprom;
-    m68k_fetch_window.base = EPROM_BASE;
-    m68k_fetch_window.span = in_slice && mac4_fast && !mac4_gdb_on ? EPROM_SIZE - 1 : 0;
-    m68k_fetch_window.wait = buswait_cfg.ws[r][0];
-    m68k_fetch_window.bus_cycles = &buswait_stats.cycles[r][0];
-    m68k_fetch_window.wait_clocks = &buswait_stats.wait[r][0];
+    m68k_mem_window_t *w[2] = {&m68k_rom_window, &m68k_ram_window};
+    for (int i = 0; i < 2; i++)
+        for (int rw = 0; rw < 2; rw++) {
+            uint64_t n = w[i]->bus[rw];
+            if (n) {
+                buswait_stats.cycles[win_region[i]][rw] += n;
+                buswait_stats.wait[win_region[i]][rw] += n * (uint64_t)w[i]->wait[rw];
+                w[i]->bus[rw] = 0;
+            }
+        }
+}
+
+static void window_set(int i, m68k_mem_window_t *w, uint8_t *mem, unsigned base, unsigned size, int on)
+{
+    unsigned r = buswait_page[base >> 8];
+    win_region[i] = (int)r;
+    w->mem = mem;
+    w->base = base;
+    w->n1 = on ? size : 0;
+    w->n2 = on ? size / 2 : 0;
+    w->n4 = on ? size / 2 - 1 : 0;
+    for (int rw = 0; rw < 2; rw++)
+        w->wait[rw] = buswait_cfg.ws[r][rw];
+}
+
+void cpu_m68k_windows(void)
+{
+    int on = in_slice && mac4_fast && !mac4_gdb_on;
+    windows_sync();
+    buswait_sync = windows_sync;
+    window_set(0, &m68k_rom_window, g_sim->eprom, EPROM_BASE, EPROM_SIZE, on);
+    window_set(1, &m68k_ram_window, g_sim->sram, SRAM_BASE, SRAM_SIZE,
+               on && !mac4_idle_rec && !g_sim->sram_fault_mask);
 }
 
 /* The 68000's bus cycles that carry no data to the emulator (musashi_cnf.h,
@@ -384,7 +430,7 @@ static cyc_t m68k_cpu_execute(sim_t *s, cyc_t max)
     in_slice = 1;
     slice_done = 0;
     for (;;) {
-        cpu_m68k_fetch_window();
+        cpu_m68k_windows();
         idle_slice_start(s->slice_base + slice_done);
         profile_slice_start();
         int ran = m68k_execute((int)(max - slice_done));
@@ -405,7 +451,7 @@ static cyc_t m68k_cpu_execute(sim_t *s, cyc_t max)
         gdbstub_resume_in_slice();
     }
     in_slice = 0;
-    m68k_fetch_window.span = 0;     /* outside a slice (the reset's fetches): the callbacks */
+    cpu_m68k_windows();     /* outside a slice (the reset's fetches): the callbacks */
     return slice_done;
 }
 

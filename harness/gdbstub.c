@@ -111,6 +111,7 @@ int mac4_gdb_instr(unsigned pc)
     }
     if (cfd < 0) {                  /* detached */
         mac4_gdb_on = 0;
+        mac4_hooks_update();
         first_pending = 0;
         return 0;
     }
@@ -628,6 +629,7 @@ void gdbstub_slice_start(sim_t *s, long long budget)
     slice_left = budget;
     if (cfd < 0) {
         mac4_gdb_on = 0;            /* detached between slices */
+        mac4_hooks_update();
         return;
     }
     if (!stop_now && sim_now(gs) >= next_poll) {   /* Ctrl-C from gdb, a closed connection */
@@ -714,6 +716,7 @@ int gdbstub_attach(sim_t *s, int port)
     int one = 1;
     setsockopt(cfd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
     mac4_gdb_on = 1;
+    mac4_hooks_update();
     s->on_fault = gdbstub_fault;
     stop_sig = 5;
     stop_pc = m68k_get_reg(NULL, M68K_REG_PC);

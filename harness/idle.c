@@ -142,6 +142,7 @@ static void watch(unsigned p)
     park = p;
     following = 0;
     mac4_idle_pc = win.valid ? ins[p].g.r[16] : anchor;
+    mac4_hooks_update();
 }
 
 /* Nothing but the CPU itself acts on the window's state until the host, the
@@ -164,6 +165,8 @@ static void rec_end(void)
 {
     mac4_idle_rec = 0;
     mac4_profiling &= ~MAC4_PROFILING_IDLE;
+    mac4_hooks_update();
+    cpu_m68k_windows();
 }
 
 void idle_invalidate(void)
@@ -196,6 +199,7 @@ static void rec_begin(void)
         if (!ins) {
             anchor = 1;          /* no memory: no skip */
             mac4_idle_pc = 1;
+            mac4_hooks_update();
             return;
         }
     }
@@ -213,6 +217,8 @@ static void rec_begin(void)
     iacks0 = buswait_stats.iacks;
     mac4_idle_rec = 1;
     mac4_profiling |= MAC4_PROFILING_IDLE;
+    mac4_hooks_update();
+    cpu_m68k_windows();     /* the SRAM's accesses through the callbacks, which report them */
     idle_stats.recordings++;
 }
 
@@ -248,6 +254,8 @@ static int grow(void **buf, size_t *cap, size_t need)
 
 static void bus_counts(ins_t *e)
 {
+    if (buswait_sync)
+        buswait_sync();     /* the core's windows count for themselves */
     memcpy(e->cyc, buswait_stats.cycles, sizeof e->cyc);
     memcpy(e->wait, buswait_stats.wait, sizeof e->wait);
 }

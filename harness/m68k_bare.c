@@ -46,6 +46,7 @@ unsigned int m68k_read_disassembler_32(unsigned int a) { return m68k_read_memory
 int mac4_profiling;
 int mac4_gdb_on;                                    /* no gdb stub here */
 unsigned mac4_idle_pc = 1;                          /* no idle skip here: odd, never a PC */
+unsigned mac4_hook_lo = 1, mac4_hook_span;             /* the hook: PC 1 alone (musashi_cnf.h) */
 void mac4_idle_instr(unsigned pc) { (void)pc; }
 int mac4_gdb_instr(unsigned pc) { (void)pc; return 0; }
 void mac4_profile_instr(unsigned pc) { (void)pc; }

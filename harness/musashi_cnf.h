@@ -59,12 +59,19 @@ int mac4_gdb_instr(unsigned pc);
  * window it sees every instruction through mac4_profile_instr (bit 1 of
  * mac4_profiling).  Only in the core mac4sim and mac4bare share
  * (MAC4_IDLE_HOOK, Makefile MUSCFLAGS), not in the stock reference. */
-#ifdef MAC4_IDLE_HOOK
 extern unsigned mac4_idle_pc;
 void mac4_idle_instr(unsigned pc);
+/* One test per instruction: the PCs from mac4_hook_lo to mac4_hook_lo +
+ * mac4_hook_span go to the hooks; mac4_hooks_update (cpu_m68k.c), called
+ * whenever mac4_gdb_on, mac4_profiling or mac4_idle_pc changes, makes
+ * that every PC while gdb or the profiler is on, else mac4_idle_pc. */
+extern unsigned mac4_hook_lo, mac4_hook_span;
+void mac4_hooks_update(void);
+#ifdef MAC4_IDLE_HOOK
 #define M68K_INSTRUCTION_CALLBACK(pc) \
-    if (mac4_gdb_on && mac4_gdb_instr(pc)) break; else if (mac4_profiling) mac4_profile_instr(pc); \
-    else if ((pc) == mac4_idle_pc) mac4_idle_instr(pc)
+    if (__builtin_expect((unsigned)(pc) - mac4_hook_lo <= mac4_hook_span, 0)) { \
+        if (mac4_gdb_on && mac4_gdb_instr(pc)) break; else if (mac4_profiling) mac4_profile_instr(pc); \
+        else if ((pc) == mac4_idle_pc) mac4_idle_instr(pc); }
 #else
 #define M68K_INSTRUCTION_CALLBACK(pc) \
     if (mac4_gdb_on && mac4_gdb_instr(pc)) break; else if (mac4_profiling) mac4_profile_instr(pc)
@@ -74,7 +81,23 @@ void mac4_idle_instr(unsigned pc);
  * n reads at address (n < 0: fewer).  Memory callbacks, a long one as
  * two, plus these are the 68000's bus cycles of each instruction. */
 void mac4_bus_extra(unsigned address, int n);
+#ifdef MAC4_IDLE_HOOK
+/* In the EPROM and the SRAM, while the core's memory windows are on (our
+ * patch 0008, harness/cpu_m68k.c), charged and counted there as
+ * mac4_bus_extra would: one region each, no device behind them. */
+#define M68K_BUS_EXTRA_CALLBACK(A, N) do { \
+        unsigned mac4_xa = (A); \
+        int mac4_xn = (N); \
+        if (mac4_xn > 0 && mac4_xa - m68k_rom_window.base < m68k_rom_window.n1) \
+            m68ki_window_charge(&m68k_rom_window, 0, mac4_xn); \
+        else if (mac4_xn > 0 && mac4_xa - m68k_ram_window.base < m68k_ram_window.n1) \
+            m68ki_window_charge(&m68k_ram_window, 0, mac4_xn); \
+        else \
+            mac4_bus_extra(mac4_xa, mac4_xn); \
+    } while (0)
+#else
 #define M68K_BUS_EXTRA_CALLBACK(A, N) mac4_bus_extra(A, N)
+#endif
 /* The emulator's bus errors are the 68000's (m68k_bus_error, our patch
  * 0007; cpu_m68k.c), which leave the registers as the instruction left
  * them, so the core saves none before every instruction (our patch

@@ -93,6 +93,7 @@ void profile_set_hook(void (*hook)(unsigned pc))
 {
     instr_hook = hook;
     mac4_profiling = (accounting || instr_hook) | (mac4_profiling & MAC4_PROFILING_IDLE);
+    mac4_hooks_update();
 }
 
 int profile_symbol(const char *name, uint32_t *addr)
@@ -153,6 +154,7 @@ void profile_set(int on)
 {
     accounting = on;
     mac4_profiling = (accounting || instr_hook) | (mac4_profiling & MAC4_PROFILING_IDLE);
+    mac4_hooks_update();
     have_last = 0;
 }
 

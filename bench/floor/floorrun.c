@@ -232,6 +232,8 @@ int mac4_profiling;
 int mac4_gdb_on;
 int mac4_gdb_instr(unsigned pc) { (void)pc; return 0; }
 unsigned mac4_idle_pc = 1;                          /* no idle skip here: odd, never a PC */
+/* every PC to the hooks (harness/musashi_cnf.h): mac4_profiling switches the tracing */
+unsigned mac4_hook_lo = 0, mac4_hook_span = ~0u;
 void mac4_idle_instr(unsigned pc) { (void)pc; }
 
 static uint32_t call_entry, call_ret;

@@ -1,5 +1,5 @@
-"""The emulator's speedups (docs/performance.md, "Emulator speed": the fetch
-window, the idle skip) change no output: representative scenarios run with
+"""The emulator's speedups (docs/performance.md, "Emulator speed": the
+memory windows, the idle skip) change no output: representative scenarios run with
 them and with `--no-fast`, and every byte of the output - responses,
 positions, the interrupt statistics, the bus counts, the profile - compared.
 The idle skip's scenarios (perf's instruction hook off, so that it acts) have
@@ -38,15 +38,20 @@ SCENARIOS = {
     "serial_inc": ("inc", lambda: ps.serial("inc", 300)),
     "creep": ("stp", lambda: ps.creep(800)),
     "profile_inc": ("inc", lambda: profiled("inc")),
+    # the memory windows charge the wait states of the bus model: with some on
+    # the SRAM too (none by default) and more on the EPROM
+    "moving_inc_wait_states": ("inc", lambda: ps.moving("inc", 300), ["--wait-states", "sram=1,eprom=2"]),
+    "bench_wait_states": ("inc", lambda: bench.bench_script(2.0), ["--wait-states", "sram.read=2,sram.write=1"]),
 }
 
 
 @pytest.mark.parametrize("name", sorted(SCENARIOS))
 def test_output_identical_without_speedups(name):
-    card, make = SCENARIOS[name]
+    card, make, *args = SCENARIOS[name]
+    args = args[0] if args else []
     script = make() + TAIL
-    fast = sim(script, card, timeout=300)
-    slow = sim(script, card, args=["--no-fast"], timeout=300)
+    fast = sim(script, card, args=args, timeout=300)
+    slow = sim(script, card, args=args + ["--no-fast"], timeout=300)
     assert fast.rc == slow.rc == 0, fast.stderr + slow.stderr
     assert any(l.startswith("irq source") for l in fast.lines)
     assert any(l.startswith("bus-stats eprom reads=") for l in fast.lines)
