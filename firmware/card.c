@@ -115,13 +115,10 @@ static void display_update(void)
 {
     /* Table 2.16: the most serious condition wins. */
     uint16_t d = 5;
-    int any_init = 0;
     uint32_t all = 0;
-    for (unsigned n = 0; n < MAC4_NAXES; n++) {
-        any_init |= axis_initialised(n);
+    for (unsigned n = 0; n < MAC4_NAXES; n++)
         all |= axes[n].ustat;
-    }
-    if (any_init)
+    if (all & UB(INIT))                           /* any axis initialised */
         d = 0;
     if (all & UB(SYN_F))
         d = 9;

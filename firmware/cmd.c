@@ -81,7 +81,6 @@ static uint8_t last_valid_axis; /* for interrupt 2 of a false axis number (6.3.1
 uint8_t cmd_mr;                 /* MR accepted: stop retriggering the watchdog (cmd.h) */
 uint32_t cmd_wd_last_us;        /* time of the last command, for <wd> (cmd_table.h) */
 static uint8_t wd_fired;
-static uint8_t turn;            /* which interface is asked first this pass */
 /* Bit 0: some axis has an interrupt-1 vector, bit 1: an interrupt-2 vector
  * (4.6; both 0 by default): the command path looks a vector up only then. */
 static uint8_t irq12;
@@ -199,26 +198,37 @@ static __attribute__((noinline)) void execute_slow(const mac4_msg_t *in, mac4_ms
     out->param = x->ustat;
 }
 
-void cmd_execute(const mac4_msg_t *in, mac4_msg_t *out)
+/* What every command does first, a read or not: <wd> counts from it (4.7). */
+FW_INLINE void command_begins(unsigned a)
 {
-    unsigned a = in->axis;
-    uint16_t code = in->code;
-    out->axis = in->axis;
-    out->source = in->source;
-    out->code = code;
     if (PAR(0, WD) > 0)
         cmd_wd_last_us = now_us();                    /* otherwise WWD sets it (write_param) */
     wd_fired = 0;
-    if (a < MAC4_NAXES) {
+    if (a < MAC4_NAXES)
         last_valid_axis = (uint8_t)a;
-        /* the common case first: a read (executed even with an error waiting, 6.3) */
-        cmd_t c = cmd_of(code);
-        const axis_t *x = axis_at[a];
+}
+
+/* A read's value (6.3: executed even with an error waiting): a field of
+ * the axis in one move, or worked out (cmd_read.c). */
+FW_INLINE uint32_t read_value(cmd_t c, unsigned a)
+{
+    if (c.kind == CK_FIELD)
+        return *(const uint32_t *)(const void *)((const uint8_t *)axis_at[a] + c.arg);
+    return cmd_read_value(c, a);
+}
+
+void cmd_execute(const mac4_msg_t *in, mac4_msg_t *out)
+{
+    unsigned a = in->axis;
+    out->axis = in->axis;
+    out->source = in->source;
+    out->code = in->code;
+    command_begins(a);
+    if (a < MAC4_NAXES) {
+        /* the common case first: a read */
+        cmd_t c = cmd_of(in->code);
         if (kind_is_read(c.kind)) {
-            if (c.kind == CK_FIELD)
-                out->param = *(const uint32_t *)(const void *)((const uint8_t *)x + c.arg);
-            else
-                out->param = cmd_read_value(c, a);
+            out->param = read_value(c, a);
             return;
         }
     }
@@ -226,20 +236,43 @@ void cmd_execute(const mac4_msg_t *in, mac4_msg_t *out)
 }
 
 /* ---- the interfaces ------------------------------------------------------ */
-FW_INLINE void respond(const mac4_msg_t *out)
+/* A command always follows the supervision of the ticks before it, and the
+ * tick sees it whole or not at all: masked, once no tick is left to
+ * supervise - the supervision itself runs unmasked (it masks per axis), so
+ * the mask holds off the next tick for the command alone.  The mask to
+ * restore after the command. */
+FW_INLINE uint16_t mask_supervised(void)
 {
-    if (out->source == MSG_SRC_SERIAL) {
-        serial_send(out);
-        return;
+    uint16_t prev = (uint16_t)hal_irq_save();
+    while (card_supervise_due()) {
+        hal_irq_restore(prev);
+        card_supervise_tick();
+        prev = (uint16_t)hal_irq_save();
     }
-    /* the VME response queue: source 0 (only the serial driver marks source 1) */
-    if (q_put_at(DP_RSP_QUEUE, out->axis, out->code, out->param, MSG_SRC_VME) != Q_OK) {
+    return prev;
+}
+
+/* After every command executed, read or not, unmasked: the count (a
+ * diagnostic), and what only the main loop reads - the profile generator's
+ * velocities of a move the command started (motion.c).  Out of line: a
+ * pass that calls it is a command pass (perf track, docs/performance.md). */
+static __attribute__((noinline)) void cmd_done(void)
+{
+    hal_wr32(DPC_COMMANDS, ++n_commands);
+    motion_after_command();
+}
+
+/* The answer of a VME command, written into the response queue's element
+ * directly: source 0 (only the serial driver marks source 1). */
+FW_INLINE void respond_vme(uint8_t axis, uint16_t code, uint32_t param)
+{
+    if (q_put_at(DP_RSP_QUEUE, axis, code, param, MSG_SRC_VME) != Q_OK) {
         /* 4.6: a full output queue loses the response, no interrupt 2 */
         hal_wr32(DPC_RSP_LOST, ++n_rsp_lost);
         return;
     }
     if (irq12 & 2u) {
-        unsigned a = out->axis < MAC4_NAXES ? out->axis : last_valid_axis;
+        unsigned a = axis < MAC4_NAXES ? axis : last_valid_axis;
         uint8_t v = (uint8_t)PAR(a, IRQ2);
         if (v)
             vme_irq(v);
@@ -249,23 +282,14 @@ FW_INLINE void respond(const mac4_msg_t *out)
 FW_INLINE void execute_and_respond(const mac4_msg_t *in)
 {
     mac4_msg_t out;
-    /* A command always follows the supervision of the ticks before it, and
-     * the tick sees it whole or not at all: masked, once no tick is left to
-     * supervise - the supervision itself runs unmasked (it masks per axis),
-     * so the mask holds off the next tick for the command alone. */
-    unsigned prev = hal_irq_save();
-    while (card_supervise_due()) {
-        hal_irq_restore(prev);
-        card_supervise_tick();
-        prev = hal_irq_save();
-    }
-    cmd_execute(in, &out);   /* (perf track counts a pass with a cmd_execute as a command pass) */
+    uint16_t prev = mask_supervised();
+    cmd_execute(in, &out);
     hal_irq_restore(prev);
-    hal_wr32(DPC_COMMANDS, ++n_commands);   /* (a diagnostic count: after the mask) */
-    /* what only the main loop reads, after the mask: the profile
-     * generator's velocities of a move the command started (motion.c) */
-    motion_after_command();
-    respond(&out);
+    cmd_done();
+    if (out.source == MSG_SRC_SERIAL)
+        serial_send(&out);
+    else
+        respond_vme(out.axis, out.code, out.param);
 }
 
 static __attribute__((noinline)) void watchdog_fire(void)
@@ -344,12 +368,73 @@ static __attribute__((noinline)) int release_held(void)
 }
 
 /* ---- the main loop's part ------------------------------------------------- */
-/* One pass: at most one command.  (An idle pass split off as an inline test
- * in front of this would save ~240 cycles per idle pass but cost ~190 more
- * per command: a command pass is this function's prologue either way.) */
-void cmd_poll(void)
+/* A command taken from either interface: held behind its axis' off-fly
+ * move, or executed and answered. */
+static __attribute__((noinline)) void dispatch(const mac4_msg_t *in)
+{
+    if (must_wait(in)) {
+        hold(in);           /* off-fly: strictly in series for its axis (5.15) */
+        return;
+    }
+    execute_and_respond(in);
+}
+
+/* The VME host's reads (RBS, RCP, RFE, ROUT, ...: the common command):
+ * straight from the queue element to the response element, the kind and
+ * the field from the table, the same steps as execute_and_respond's. */
+FW_INLINE void vme_read(unsigned a, uint16_t code, cmd_t c)
+{
+    uint16_t prev = mask_supervised();
+    command_begins(a);
+    uint32_t v = read_value(c, a);
+    hal_irq_restore(prev);
+    cmd_done();
+    respond_vme((uint8_t)a, code, v);
+}
+
+/* The VME command at the rear of the queue (its header checked, not empty). */
+FW_INLINE void vme_command(uint32_t rear)
+{
+    uint32_t e = DP_CMD_QUEUE + q_elem_off(rear);
+    IN_ADDR_REG(e);
+    uint8_t a = hal_rd8(e + MSG_AXIS);
+    uint16_t code = hal_rd16(e + MSG_CODE);
+    cmd_t c = cmd_of(code);
+    /* a read of a valid axis never waits (off-fly) and needs no parameter */
+    if (a < MAC4_NAXES && kind_is_read(c.kind) && !(irq12 & 1u)) {
+        q_rear_on(DP_CMD_QUEUE, rear);
+        vme_read(a, code, c);
+        return;
+    }
+    mac4_msg_t in;
+    in.axis = a;
+    in.code = code;
+    in.param = hal_rd32(e + MSG_PARAM);
+    q_rear_on(DP_CMD_QUEUE, rear);
+    in.source = MSG_SRC_VME;                /* a VME command is answered on the VMEbus */
+    /* interrupt 1: a command was read from the VME queue (4.6) */
+    if ((irq12 & 1u) && a < MAC4_NAXES) {
+        uint8_t v = (uint8_t)PAR(a, IRQ1);
+        if (v)
+            vme_irq(v);
+    }
+    dispatch(&in);
+}
+
+static __attribute__((noinline)) void serial_command(void)
 {
     mac4_msg_t in;
+    if (serial_get(&in))
+        dispatch(&in);
+}
+
+/* One pass: a held command that can go now, or else at most one command of
+ * each interface, the VME queue's first.  Both each pass, so that neither
+ * starves the other, and a VME command waits for one serial command at
+ * most, never for a pass of its own behind it (the 2 ms command latency
+ * with both hosts busy, docs/performance.md). */
+void cmd_poll(void)
+{
     serial_poll();
     watchdog_check();
     if (cmd_mr)
@@ -360,39 +445,16 @@ void cmd_poll(void)
         if (n_held == HOLD_MAX)
             return;         /* no room to hold another: the interfaces wait */
     }
-    /* One command per pass, alternating between the two interfaces so
-     * neither can starve the other. */
-    uint8_t t = turn ^= 1u;
-    int have = 0;
-    if (t && serial_pending())
-        have = serial_get(&in);
-    if (!have) {
-        int r = q_get_at(DP_CMD_QUEUE, &in, 0);
-        if (r == Q_CORRUPT) {
-            if (!queue_bad)
-                hal_wr32(DPC_QUEUE_ERRORS, ++n_queue_errors);
-            queue_bad = 1;
-        } else {
-            queue_bad = 0;
-            have = r;       /* Q_OK 1, Q_EMPTY 0 */
-            if (have) {
-                in.source = MSG_SRC_VME;   /* a VME command is answered on the VMEbus */
-                /* interrupt 1: a command was read from the VME queue (4.6) */
-                if ((irq12 & 1u) && in.axis < MAC4_NAXES) {
-                    uint8_t v = (uint8_t)PAR(in.axis, IRQ1);
-                    if (v)
-                        vme_irq(v);
-                }
-            }
-        }
+    uint32_t front, rear;
+    if (q_header_at(DP_CMD_QUEUE, &front, &rear)) {
+        if (!queue_bad)
+            hal_wr32(DPC_QUEUE_ERRORS, ++n_queue_errors);
+        queue_bad = 1;
+    } else {
+        queue_bad = 0;
+        if (front != rear)
+            vme_command(rear);
     }
-    if (!have && !t && serial_pending())
-        have = serial_get(&in);
-    if (!have)
-        return;
-    if (must_wait(&in)) {
-        hold(&in);          /* off-fly: strictly in series for its axis (5.15) */
-        return;
-    }
-    execute_and_respond(&in);
+    if (serial_pending() && !cmd_mr && n_held < HOLD_MAX)
+        serial_command();
 }

@@ -21,7 +21,7 @@ void q_create(uint32_t q)
  * q_put_at of queue.h with the address known at compile time). */
 int q_check(uint32_t q)
 {
-    uint16_t f, r;
+    uint32_t f, r;
     return q_header_at(q, &f, &r);
 }
 

@@ -55,7 +55,7 @@ int q_put(uint32_t q, const mac4_msg_t *m);
  * leave the element area.  The header is read once: the indices checked
  * are the indices used (a host writing between a check and a second read
  * could otherwise steer the card out of the queue). */
-FW_INLINE int q_header_at(uint32_t q, uint16_t *front, uint16_t *rear)
+FW_INLINE int q_header_at(uint32_t q, uint32_t *front, uint32_t *rear)
 {
     if (hal_rd32(q + QH_BASE) != Q_HEADER_SIZE || hal_rd32(q + QH_WIDTH) != Q_WIDTH ||
         hal_rd32(q + QH_NEL) != Q_NEL)
@@ -63,23 +63,30 @@ FW_INLINE int q_header_at(uint32_t q, uint16_t *front, uint16_t *rear)
     uint32_t f = hal_rd32(q + QH_FRONT), r = hal_rd32(q + QH_REAR);
     if (f >= Q_NEL || r >= Q_NEL)
         return Q_CORRUPT;
-    *front = (uint16_t)f;
-    *rear = (uint16_t)r;
+    *front = f;
+    *rear = r;
     return 0;
 }
 
 /* Byte offset of element i (0..9) from the queue's start: 24 + 10 i, in
  * 16-bit arithmetic (no 32-bit multiply). */
-static inline uint16_t q_elem_off(uint16_t i)
+static inline uint16_t q_elem_off(uint32_t i)
 {
     uint16_t i2 = (uint16_t)(i + i);
     return (uint16_t)(Q_HEADER_SIZE + i2 + (uint16_t)(i2 << 2));
 }
 
+/* The element at rear read: rear on to the next, which gives the element
+ * back to the host. */
+FW_INLINE void q_rear_on(uint32_t q, uint32_t rear)
+{
+    hal_wr32(q + QH_REAR, rear == Q_NEL - 1u ? 0u : rear + 1u);
+}
+
 /* Take the element at rear (the header checked, front != rear); its
  * source byte only when want_source (the command path answers a VME
  * command on the VMEbus whatever that byte says). */
-FW_INLINE void q_take_at(uint32_t q, uint16_t rear, mac4_msg_t *m,
+FW_INLINE void q_take_at(uint32_t q, uint32_t rear, mac4_msg_t *m,
                                                             int want_source)
 {
     uint32_t e = q + q_elem_off(rear);
@@ -89,12 +96,12 @@ FW_INLINE void q_take_at(uint32_t q, uint16_t rear, mac4_msg_t *m,
     m->param = hal_rd32(e + MSG_PARAM);
     if (want_source)
         m->source = hal_rd8(e + MSG_SOURCE);
-    hal_wr32(q + QH_REAR, rear == Q_NEL - 1u ? 0u : (uint32_t)rear + 1u);
+    q_rear_on(q, rear);
 }
 
 FW_INLINE int q_get_at(uint32_t q, mac4_msg_t *m, int want_source)
 {
-    uint16_t front, rear;
+    uint32_t front, rear;
     if (q_header_at(q, &front, &rear))
         return Q_CORRUPT;
     if (front == rear)
@@ -107,10 +114,10 @@ FW_INLINE int q_get_at(uint32_t q, mac4_msg_t *m, int want_source)
 FW_INLINE int q_put_at(uint32_t q, uint8_t axis, uint16_t code, uint32_t param,
                                                           uint8_t source)
 {
-    uint16_t front, rear;
+    uint32_t front, rear;
     if (q_header_at(q, &front, &rear))
         return Q_CORRUPT;
-    uint16_t next = front == Q_NEL - 1u ? 0u : (uint16_t)(front + 1u);
+    uint32_t next = front == Q_NEL - 1u ? 0u : front + 1u;
     if (next == rear)
         return Q_FULL;
     uint32_t e = q + q_elem_off(front);

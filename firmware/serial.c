@@ -11,6 +11,7 @@
  * Everything starts from zero: .bss is cleared by crt0, which is the same
  * state serial_reset() produces, so the driver works before anyone calls it.
  */
+#include "inline.h"
 #include "fw.h"
 #include "hal.h"
 #include "serial.h"
@@ -25,32 +26,47 @@ uint8_t serial_checksum(const uint8_t data[SERIAL_DATA_LEN])
     return (uint8_t)sum;
 }
 
-/* Data byte i (0..6) of a message: axis, code MSB, LSB, parameter MSB..LSB. */
-static uint8_t data_of(const mac4_msg_t *m, unsigned i)
+/* One data byte (or the checksum) at out[h], doubled if it is DLE: the
+ * next h.  Through a volatile pointer, so no two byte stores ever merge
+ * (serial.h, the toolchain hazard). */
+FW_INLINE unsigned put_data(volatile uint8_t *out, unsigned h, unsigned mask, uint8_t b)
 {
-    if (i == 0)
-        return m->axis;
-    if (i < 3)
-        return (uint8_t)(m->code >> (8u * (2u - i)));
-    return (uint8_t)(m->param >> (8u * (6u - i)));
+    out[h] = b;
+    h = (h + 1u) & mask;
+    if (b == SERIAL_DLE) {
+        out[h] = SERIAL_DLE;
+        h = (h + 1u) & mask;
+    }
+    return h;
+}
+
+/* The telegram of m from out[h] on, h advancing modulo mask + 1 (a ring),
+ * or without a wrap (mask ~0u): the h after it.  The one encoder, of the
+ * transmit ring (serial_send) and of serial_encode. */
+FW_INLINE unsigned encode_at(volatile uint8_t *out, unsigned h, unsigned mask, const mac4_msg_t *m)
+{
+    uint8_t a = m->axis, c1 = (uint8_t)(m->code >> 8), c0 = (uint8_t)m->code;
+    uint32_t p = m->param;
+    uint16_t ph = (uint16_t)(p >> 16), pl = (uint16_t)p;
+    uint8_t p3 = (uint8_t)(ph >> 8), p2 = (uint8_t)ph, p1 = (uint8_t)(pl >> 8), p0 = (uint8_t)pl;
+    out[h] = SERIAL_DLE;
+    h = (h + 1u) & mask;
+    out[h] = SERIAL_STX;
+    h = (h + 1u) & mask;
+    h = put_data(out, h, mask, a);
+    h = put_data(out, h, mask, c1);
+    h = put_data(out, h, mask, c0);
+    h = put_data(out, h, mask, p3);
+    h = put_data(out, h, mask, p2);
+    h = put_data(out, h, mask, p1);
+    h = put_data(out, h, mask, p0);
+    /* the checksum, sent doubled like a data byte (docs/serial.md) */
+    return put_data(out, h, mask, (uint8_t)(a + c1 + c0 + p3 + p2 + p1 + p0));
 }
 
 unsigned serial_encode(const mac4_msg_t *m, uint8_t *buf)
 {
-    unsigned n = 0, sum = 0;
-    buf[n++] = SERIAL_DLE;
-    buf[n++] = SERIAL_STX;
-    for (unsigned i = 0; i < SERIAL_DATA_LEN; i++) {
-        uint8_t b = data_of(m, i);
-        sum += b;
-        buf[n++] = b;
-        if (b == SERIAL_DLE)
-            buf[n++] = SERIAL_DLE;
-    }
-    buf[n++] = (uint8_t)sum;
-    if ((uint8_t)sum == SERIAL_DLE)   /* sent doubled like a data byte (docs/serial.md) */
-        buf[n++] = SERIAL_DLE;
-    return n;
+    return encode_at(buf, 0, ~0u, m);
 }
 
 void serial_dec_init(serial_dec_t *d)
@@ -290,26 +306,33 @@ static uint32_t now_us(void)
     return hi << 16 | lo;
 }
 
-/* Queue n bytes for sending, all or none.  Returns 1 if queued. */
-static int tx_put(const uint8_t *p, unsigned n)
+/* The bytes up to head are queued: the ISR may send them. */
+static void tx_publish(uint8_t head)
 {
-    uint8_t head = tx_head;
-    unsigned room = (unsigned)(tx_tail - head - 1u) & TX_MASK;
-    if (n > room) {
-        stat_add(ST_TX_LOST, 1);
-        return 0;
-    }
-    for (unsigned i = 0; i < n; i++) {
-        tx_buf[head] = p[i];
-        head = (uint8_t)((head + 1u) & TX_MASK);
-    }
-    tx_head = head;                           /* publish after the bytes */
+    tx_head = head;                           /* after the bytes */
     if (!tx_on) {
         unsigned sr = hal_irq_save();
         tx_on = 1;
         hal_wr16(UART_CTRL, (uint16_t)(hal_rd16(UART_CTRL) | UART_CTRL_TXIE));
         hal_irq_restore(sr);
     }
+}
+
+static unsigned tx_room(void) { return (unsigned)(tx_tail - tx_head - 1u) & TX_MASK; }
+
+/* Queue n bytes for sending, all or none.  Returns 1 if queued. */
+static int tx_put(const uint8_t *p, unsigned n)
+{
+    if (n > tx_room()) {
+        stat_add(ST_TX_LOST, 1);
+        return 0;
+    }
+    uint8_t head = tx_head;
+    for (unsigned i = 0; i < n; i++) {
+        tx_buf[head] = p[i];
+        head = (uint8_t)((head + 1u) & TX_MASK);
+    }
+    tx_publish(head);
     return 1;
 }
 
@@ -339,28 +362,38 @@ static void event(int ev, const mac4_msg_t *m)
     stat_add(ST_RX_OK, 1);
 }
 
-void serial_poll_work(void)
+/* The bytes that have arrived, through the decoder (out of line: the
+ * common pass, a telegram open and nothing new, needs none of its
+ * registers). */
+static __attribute__((noinline)) void take_bytes(void)
 {
-    int got = 0;
     mac4_msg_t m;               /* filled by the decoder before any use */
-    serial_rx_work = 0;         /* before looking: news from now on sets it again */
     while (rx_tail != rx_head) {
         uint8_t t = rx_tail;
         uint8_t b = rx_buf[t];
         rx_tail = (uint8_t)((t + 1u) & RX_MASK);
-        got = 1;
         event(serial_dec_step(&dec, b, &m), &m);
     }
-    /* The clock is read only when it matters: an idle line costs nothing. */
-    if (got)
-        last_rx_us = now_us();
-    else if (serial_dec_busy(&dec) && (uint32_t)(now_us() - last_rx_us) > SERIAL_TIMEOUT_US)
-        event(serial_dec_timeout(&dec), &m);
-    if (serial_dec_busy(&dec))
-        serial_rx_work = 1;     /* a telegram is open: watch its timeout */
-
+    last_rx_us = now_us();
     if (dec.garbage != stats[ST_GARBAGE])
         stat_set(ST_GARBAGE, dec.garbage);
+}
+
+void serial_poll_work(void)
+{
+    serial_rx_work = 0;         /* before looking: news from now on sets it again */
+    /* The clock is read only when it matters: an idle line costs nothing. */
+    if (rx_tail != rx_head) {
+        take_bytes();
+    } else if (dec.state != SERIAL_DS_HUNT && (uint32_t)(now_us() - last_rx_us) > SERIAL_TIMEOUT_US) {
+        mac4_msg_t m;           /* (no message from a timeout) */
+        event(serial_dec_timeout(&dec), &m);
+        if (dec.garbage != stats[ST_GARBAGE])
+            stat_set(ST_GARBAGE, dec.garbage);
+    }
+    if (dec.state != SERIAL_DS_HUNT)
+        serial_rx_work = 1;     /* a telegram is open (serial_dec_busy): watch its timeout */
+
     uint16_t o = isr_overruns, f = isr_framing;
     if (o != seen_overruns) {
         stat_add(ST_OVERRUNS, (uint16_t)(o - seen_overruns));
@@ -384,7 +417,14 @@ int serial_get(mac4_msg_t *m)
 
 void serial_send(const mac4_msg_t *m)
 {
-    uint8_t buf[SERIAL_TELEGRAM_MAX];
+    if (tx_room() >= SERIAL_TELEGRAM_MAX) {
+        /* room for the longest: encoded straight into the ring (the ISR
+         * reads none of it before tx_head moves) */
+        tx_publish((uint8_t)encode_at(tx_buf, tx_head, TX_MASK, m));
+        stat_add(ST_TX_OK, 1);
+        return;
+    }
+    uint8_t buf[SERIAL_TELEGRAM_MAX];     /* nearly full: all of it or nothing */
     unsigned n = serial_encode(m, buf);
     if (tx_put(buf, n))
         stat_add(ST_TX_OK, 1);

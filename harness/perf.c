@@ -8,7 +8,7 @@
  *   perf net               per source and occurrence: exclusive cycles less the
  *                          probed functions that ran inside it
  *   perf track on|off      main-loop passes (calls of fw_main_step) classified as
- *                          command passes (cmd_execute ran) or idle polling
+ *                          command passes (cmd_done ran) or idle polling
  *   perf probe FUNC        inclusive cycles per call of FUNC, nested ISRs excluded,
  *                          and per profile period (the calls that ended in it)
  *   perf load              CPU load over the window (needs `perf track on`)
@@ -740,7 +740,7 @@ static int cmd_perf(script_t *sc, sim_t *s, char **tok, int n)
         if (!strcmp(tok[2], "off")) {
             track = 0;
         } else {
-            const char *m = n == 5 ? tok[3] : "fw_main_step", *x = n == 5 ? tok[4] : "cmd_execute";
+            const char *m = n == 5 ? tok[3] : "fw_main_step", *x = n == 5 ? tok[4] : "cmd_done";
             if (needs_symbols(sc, m, &pass.entry) || needs_symbols(sc, x, &cmd_entry))
                 return -1;
             snprintf(pass.name, sizeof pass.name, "%s", m);

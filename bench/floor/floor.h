@@ -51,7 +51,6 @@
 #define CD_WDFIRED      0x4A    /* b  wd_fired */
 #define CD_MR           0x4B    /* b  cmd_mr */
 #define CD_NHELD        0x4C    /* b  n_held */
-#define CD_TURN         0x4D    /* b  turn */
 #define CD_QBAD         0x4E    /* b  queue_bad */
 #define CD_LASTAX       0x4F    /* b  last_valid_axis */
 #define CD_IRQ12        0x50    /* b  irq12 */

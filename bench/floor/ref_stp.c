@@ -59,7 +59,7 @@ static uint8_t estop_seen, ext_on;
 volatile uint8_t vme_irq_waiting;
 uint32_t virq_lost;                         /* card.h */
 static uint32_t n_commands, n_rsp_lost, n_queue_errors, serial_stats[8];
-static uint8_t serial_rx_work, serial_fifo_count, wd_fired, n_held, turn, queue_bad, last_valid_axis, irq12;
+static uint8_t serial_rx_work, serial_fifo_count, wd_fired, n_held, queue_bad, last_valid_axis, irq12;
 uint8_t cmd_mr;
 uint8_t motion_vq_due;
 static int32_t par_wd;
@@ -859,11 +859,10 @@ static void cmd_poll_ref(void)
         return;
     if (n_held)
         beyond = 1;
-    uint8_t t = turn ^= 1u;
     int have = 0;
     mac4_msg_t in;
-    if (t && serial_fifo_count)
-        beyond = 1;
+    if (serial_fifo_count)
+        beyond = 1;                                 /* serial_command, after the VME queue */
     int r = q_get_at(DP_CMD_QUEUE, &in, 0);
     if (r == Q_CORRUPT) {
         if (!queue_bad)
@@ -878,8 +877,6 @@ static void cmd_poll_ref(void)
                 beyond = 1;
         }
     }
-    if (!have && !t && serial_fifo_count)
-        beyond = 1;
     if (!have)
         return;
     cmd_t c = in.code < NCODES ? cmds[in.code] : (cmd_t){CK_NONE, 0};
@@ -923,7 +920,6 @@ static void pack_cmd(void)
     m_wr8(FLOOR_CARD + CD_WDFIRED, wd_fired);
     m_wr8(FLOOR_CARD + CD_MR, cmd_mr);
     m_wr8(FLOOR_CARD + CD_NHELD, n_held);
-    m_wr8(FLOOR_CARD + CD_TURN, turn);
     m_wr8(FLOOR_CARD + CD_QBAD, queue_bad);
     m_wr8(FLOOR_CARD + CD_LASTAX, last_valid_axis);
     m_wr8(FLOOR_CARD + CD_IRQ12, irq12);
@@ -979,7 +975,6 @@ static void gen_cmd(int scen)
     par_wd = broad && rnd_pct(20) ? -(int32_t)rnd_below(5) : 0;
     cmd_mr = (uint8_t)(broad && rnd_pct(5));
     n_held = 0;
-    turn = (uint8_t)rnd_below(2);
     queue_bad = (uint8_t)rnd_below(2);
     last_valid_axis = (uint8_t)rnd_below(4);
     irq12 = 0;
