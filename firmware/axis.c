@@ -38,7 +38,10 @@ void axis_set_gains(unsigned n, const servo_gains_t *g)
 void axis_set_mode(unsigned n, uint8_t mode)
 {
     axis_t *x = &axes[n];
+    PIN_PTR(x);                                   /* one multiply by sizeof(axis_t), not one per use */
     x->mode = mode;
+    if (MAC4_CARD == MAC4_CARD_STP)
+        x->stp_path = stp_path_of(mode, x->braking);  /* the tick's body for the axis */
     x->ustat = (x->ustat & ~US_MODE_MASK) | mode;
     if (mode == M_DISABLE) {
         x->ustat &= ~UB(DR_EN);

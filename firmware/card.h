@@ -96,6 +96,10 @@ typedef struct {
         int32_t br_v, br_dec;           /* Q16 per tick (0 once the ramp has ended), per tick^2 (>= 1) */
         int32_t br_ssf;                 /* STP: <ssf> per tick, Q16: from there it stops at once */
         volatile uint8_t braking;
+        /* STP: the body of the tick that runs the axis (STP_PATH_*), which
+         * follows the mode and braking: stepper.h stp_path_set, called by
+         * their writers (axis_set_mode; brake_now, brake_done, motion_hold) */
+        uint8_t stp_path;
     };
     /* the mode's motion: the motion files' (motion*.c, main loop; stepper.c
      * the STP's creep phase), masked where the tick reads them */

@@ -109,6 +109,8 @@ void motion_hold(unsigned n)
         x->sp_vel = x->sp_vel_next = 0;
     }
     x->braking = 0;
+    if (MAC4_CARD == MAC4_CARD_STP)
+        stp_path_set(x);                         /* the tick's body for the axis */
 }
 
 /* Start the tick's own braking ramp now (interrupts masked): from the last
@@ -140,6 +142,8 @@ static void brake_now(axis_t *x, int64_t dec_sp)
     x->br_v = v;
     x->nx_ready = 0;
     x->braking = 1;
+    if (MAC4_CARD == MAC4_CARD_STP)
+        stp_path_set(x);
 }
 
 /* The tick stands after brake_now(): the profile continues from there, at
@@ -169,6 +173,8 @@ void brake_done(axis_t *x)
     }
     x->nx_ready = 0;
     x->braking = 0;
+    if (MAC4_CARD == MAC4_CARD_STP)
+        stp_path_set(x);                         /* the tick's body for the axis */
 }
 
 void motion_brake(unsigned n)

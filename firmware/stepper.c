@@ -67,12 +67,7 @@ void stp_init(unsigned n)
     }
 }
 
-int32_t stp_counts(unsigned n)
-{
-    if (stp_conv & (1u << n))
-        return stp_ax[n].inc;
-    return (axes[n].ustat & UB(REV_O)) ? -axes[n].meas : axes[n].meas;
-}
+int32_t stp_counts(unsigned n) { return stp_counts_at(&axes[n], &stp_ax[n], n); }
 
 int32_t stp_tol(unsigned n) { return stp_ax[n].tol; }
 

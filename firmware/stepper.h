@@ -79,6 +79,7 @@ int64_t stp_ssf_grid(int64_t ssf, int turbo);
  * own files (stepper.c, stp_rate.c), which only its image links. */
 #include "hal.h"
 #include "card.h"
+#include "measure.h"
 /* Per axis; public so that the tick's output stage (tick.h) is a copy.
  * 64 bytes on the 68000: &stp_ax[n] is then n << 6, not a multiply by the
  * struct's size, in every function that takes an axis number (a field
@@ -118,7 +119,27 @@ _Static_assert(sizeof(stp_t) == 64, "stp_t: 64 bytes, so that &stp_ax[n] is a sh
 #endif
 extern stp_t stp_ax[MAC4_NAXES];
 #define STP_OBITS (AX_CTRL_DIR | AX_CTRL_BOOST | AX_CTRL_TURBO)
-#define STP_CREEP_IDLE 0
+/* stp_t.creep.  CREEP_TRIM: at stand-still, the step counter a step or two
+ * off the setpoint (the generator's phase): those steps at <lv>, any mode. */
+enum { CREEP_IDLE, CREEP_REQ, CREEP_WAIT, CREEP_RUN, CREEP_DONE, CREEP_TRIM };
+#define STP_CREEP_IDLE CREEP_IDLE
+
+/* The tick's path of an axis (axis_t.stp_path): which instantiation of the
+ * one axis body (tick_stp.c stp_axis) runs it.  What decides it changes only
+ * in the main loop, masked - the mode (axis_set_mode) and the tick's own
+ * brake (motion.c brake_now, brake_done, motion_hold) - and each of those
+ * calls stp_path_set, so the tick tests one byte instead of the mode twice
+ * and the brake. */
+enum {
+    STP_PATH_RUN,           /* a mode with a profile, the setpoint from the SP's segment */
+    STP_PATH_BRAKE,         /* the same, braked by the tick itself (x->braking) */
+    STP_PATH_IDLE           /* disabled or test mode: no setpoint, stp_idle_output */
+};
+FW_INLINE uint8_t stp_path_of(uint8_t mode, uint8_t braking)
+{
+    return mode == M_DISABLE || mode == M_TEST ? STP_PATH_IDLE : braking ? STP_PATH_BRAKE : STP_PATH_RUN;
+}
+FW_INLINE void stp_path_set(axis_t *x) { x->stp_path = stp_path_of(x->mode, x->braking); }
 
 /* AX_CTRL's DIR for a motion in direction dir: 0 V (bit set) = positive,
  * open collector = negative (table 2.12); USR turns it round (4.2). */
@@ -150,7 +171,29 @@ FW_INLINE int32_t measure_steps(const axis_t *x, unsigned n, int32_t d)
         return stp_measured(n, d);
     return (x->ustat & UB(REV_O)) ? -d : d;
 }
-int32_t stp_counts(unsigned n);               /* position counter in its units (RCPI) */
+/* The position counter in its units (RCPI): increments, or steps the way
+ * the counter counts them (USR turns them round). */
+FW_INLINE int32_t stp_counts_at(const axis_t *x, const stp_t *s, unsigned n)
+{
+    if (stp_conv & (1u << n))
+        return s->inc;
+    return (x->ustat & UB(REV_O)) ? -x->meas : x->meas;
+}
+int32_t stp_counts(unsigned n);               /* the same, out of line */
+/* The tick's external measurement (<et> 3/4, measure.h's measure_ext on the
+ * STP, stp_meas.c): the reading in increments, converted to steps.  Inline:
+ * the tick takes it per axis with its pointers and registers constants. */
+FW_INLINE void stp_measure_ext(axis_t *x, meas_cfg_t *c, unsigned n)
+{
+    uint32_t raw;
+    if (measure_ext_checked(x, c, n, &raw))
+        return;
+    /* absolute: the reading against the counter in its increments */
+    int32_t d = c->abs ? (int32_t)(raw - (uint32_t)stp_counts_at(x, &stp_ax[n], n)) : measure_delta(x, c, raw);
+    x->raw = raw;
+    x->counter = raw;
+    measure_apply(x, measure_steps(x, n, d));
+}
 int32_t stp_edge(unsigned n, int32_t d);      /* index latched d counts from here: steps */
 int32_t stp_tol(unsigned n);                  /* steps the encoder ratio leaves open */
 int stp_creep_dir(unsigned n);                /* a creep phase's direction while it runs, else 0 */
@@ -163,7 +206,6 @@ void stp_motion_start(unsigned n, uint8_t mode, const stp_plan_t *pl);
 void stp_status(unsigned n);                  /* once per SP: TURBO, status bits */
 int stp_positioning(unsigned n, int64_t vmax, int64_t acc, int64_t dec, int64_t ssf);
 void stp_profile_end(unsigned n, int64_t before, int64_t before_vel);  /* BOOST gate */
-void stp_trim(unsigned n);
 /* output stage and interrupts (tick.h, supervise.c) */
 void stp_idle_output(unsigned n);             /* disabled or test mode */
 int32_t stp_out_steps_sp(unsigned n);         /* ROUT, Steps/SP (table 6.2) */
@@ -185,44 +227,94 @@ FW_INLINE void stp_load_rate(stp_t *s, uint32_t t)
     }
 }
 
-/* Every tick, modes with a profile (tick_stp.c stp_tick_axis, after the setpoint
- * interpolation moved sp_i/sp_f on from old_i/old_f): the step rate for
- * this tick's distance, setpoint and following error.  The common case -
- * no creep or trim, moving on in the direction of the last tick - is
- * inline here (no call, no arguments on the stack); everything else is
- * stp_servo_full_N() in stepper.c (one per axis), which handles every case. */
-void stp_servo_full_0(unsigned phase, int32_t old_i, uint16_t old_f);
-void stp_servo_full_1(unsigned phase, int32_t old_i, uint16_t old_f);
-void stp_servo_full_2(unsigned phase, int32_t old_i, uint16_t old_f);
-void stp_servo_full_3(unsigned phase, int32_t old_i, uint16_t old_f);
-FW_INLINE void stp_servo(axis_t *x, unsigned n, unsigned phase, int32_t old_i,
-                                                            uint16_t old_f)
+/* The creep phase and the trim while one is requested or running
+ * (stp_rate.c creep_tick), one copy per axis so that its state and
+ * registers are constants: 1 if the down-counter has the axis this tick
+ * (setpoint and following error set), 2 if the setpoint moved under the
+ * caller, 0 if nothing. */
+int stp_creep_tick_0(unsigned phase, int32_t old_i, uint16_t old_f);
+int stp_creep_tick_1(unsigned phase, int32_t old_i, uint16_t old_f);
+int stp_creep_tick_2(unsigned phase, int32_t old_i, uint16_t old_f);
+int stp_creep_tick_3(unsigned phase, int32_t old_i, uint16_t old_f);
+FW_INLINE int stp_creep_tick(unsigned n, unsigned phase, int32_t old_i, uint16_t old_f)
 {
-    stp_t *s = &stp_ax[n];
-    PIN_PTR(s);
-    int32_t di = pos_sub(x->sp_i, old_i);
-    if (s->creep == STP_CREEP_IDLE && (uint32_t)di + 30000u <= 60000u) {
-        /* the setpoint of the last tick is where its steps have brought the
-         * axis by now (the steps of this tick are still to come, 4.8.1) */
-        int32_t d = (int32_t)((uint32_t)di << 16) + (int32_t)x->sp_f - (int32_t)old_f;
-        if (d > 0 ? s->dir > 0 : d < 0 && s->dir < 0) {
-            int32_t sp = pos_add(old_i, old_f >= 0x8000u);
-            x->setpoint = sp;
-            x->ferr = pos_sub(sp, x->meas);
-            /* the carry (< clocks) cannot wrap |d| < 2^31 */
-            stp_load_rate(s, (uint32_t)(d < 0 ? -d : d) + s->carry);
+    if (n == 0)                                  /* n is a constant in the tick: one call */
+        return stp_creep_tick_0(phase, old_i, old_f);
+    if (n == 1)
+        return stp_creep_tick_1(phase, old_i, old_f);
+    if (n == 2)
+        return stp_creep_tick_2(phase, old_i, old_f);
+    return stp_creep_tick_3(phase, old_i, old_f);
+}
+
+#define STP_TRIM_MAX 3              /* stp_trim_at: at most this many steps off the setpoint */
+
+/* The setpoint stands still but the step counter is a step or two off it:
+ * the generator's phase (docs/stepper.md).  Those steps at <lv>. */
+FW_INLINE void stp_trim_at(const axis_t *x, stp_t *s, unsigned n)
+{
+    int32_t e = x->ferr;
+    if (e < -STP_TRIM_MAX || e > STP_TRIM_MAX || s->creep != CREEP_IDLE) {
+        s->rate = 0;
+        return;
+    }
+    int8_t dir = e < 0 ? -1 : 1;
+    s->dir = dir;
+    s->obits = (uint16_t)((s->obits & ~AX_CTRL_DIR) | stp_dir_bit(x, dir));
+    s->carry = 0;
+    hal_wr16(AX_REG(n, AX_PULSES), (uint16_t)(e < 0 ? -e : e));
+    s->creep = CREEP_TRIM;
+    s->rate = s->lv_rate;
+}
+
+/* Every tick, modes with a profile (tick_stp.c stp_axis, after the setpoint
+ * interpolation moved sp_i/sp_f on from old_i/old_f): the step rate for
+ * this tick's distance, the setpoint and following error.  Every case - the
+ * creep phase and the trim, on in the last direction, a new one,
+ * stand-still, a jump - in one body, inlined with a constant n. */
+FW_INLINE void stp_rate(axis_t *x, stp_t *s, unsigned n, unsigned phase, int32_t old_i, uint16_t old_f)
+{
+    if (s->creep != CREEP_IDLE) {
+        int c = stp_creep_tick(n, phase, old_i, old_f);
+        if (c == 1)
             return;
+        if (c == 2) {
+            old_i = x->sp_i;
+            old_f = x->sp_f;
         }
     }
-    /* n is a constant in the tick: one call */
-    if (n == 0)
-        stp_servo_full_0(phase, old_i, old_f);
-    else if (n == 1)
-        stp_servo_full_1(phase, old_i, old_f);
-    else if (n == 2)
-        stp_servo_full_2(phase, old_i, old_f);
+    /* the setpoint of the last tick is where its steps have brought the
+     * axis by now (the steps of this tick are still to come, 4.8.1) */
+    int32_t di = pos_sub(x->sp_i, old_i);
+    int32_t d;
+    if ((uint32_t)di + 30000u > 60000u)          /* a jump beyond 30000 steps: the largest rate */
+        d = di > 0 ? 0x7FFFFFFF : -0x7FFFFFFF;
     else
-        stp_servo_full_3(phase, old_i, old_f);
+        d = (int32_t)((uint32_t)di << 16) + (int32_t)x->sp_f - (int32_t)old_f;
+    int32_t sp = pos_add(old_i, old_f >= 0x8000u);
+    x->setpoint = sp;
+    x->ferr = pos_sub(sp, x->meas);
+    if (d == 0) {
+        /* stand-still: the step counter must read the setpoint (the trim) */
+        if (x->ferr && !s->rate && !x->prof.vel && !(stp_conv & (1u << n)))
+            stp_trim_at(x, s, n);
+        else
+            s->rate = 0;
+        return;
+    }
+    int8_t dir = 1;
+    uint32_t mag = (uint32_t)d;
+    if (d < 0) {
+        dir = -1;
+        mag = (uint32_t)-d;
+    }
+    if (dir != s->dir) {                         /* a new direction: DIR, and no remainder */
+        s->dir = dir;
+        s->carry = 0;
+        s->obits = (uint16_t)((s->obits & ~AX_CTRL_DIR) | stp_dir_bit(x, dir));
+    }
+    /* |d| <= 0x7FFFFFFF and the carry a 16-bit remainder: the sum cannot wrap */
+    stp_load_rate(s, mag + s->carry);
 }
 
 /* axis_output, every tick: DIR, BOOST, TURBO of AX_CTRL; returns the rate. */

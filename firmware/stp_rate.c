@@ -1,7 +1,7 @@
 /*
- * stp_rate.c - the MAC4-STP's step-rate stage: every tick the step rate
- * register for that tick's distance (stp_servo in stepper.h, the rest
- * here), the creep phase of positioning (5.6, diagram 5.2) and the trim at
+ * stp_rate.c - the MAC4-STP's step-rate stage: the rate register for a
+ * tick's distance is stepper.h's stp_rate (inline in the tick); here the
+ * creep phase of positioning (5.6, diagram 5.2) and the end of the trim at
  * stand-still, the output of a disabled or tested axis (5.13), ROUT.  The
  * STP's image alone links it (Makefile, FW_STP).
  */
@@ -15,8 +15,6 @@
 #include "params.h"
 #include "motion.h"
 #include "stp_card.h"
-
-#define TRIM_MAX 3                  /* stp_trim: at most this many steps off the setpoint */
 
 /* The creep's pulses are counted by interrupt up to 1000 Hz (rate register
  * 1311, TURBO 131); faster, the tick reads the down-counter instead. */
@@ -162,85 +160,19 @@ int stp_creep_dir(unsigned n)
     return s->creep == CREEP_RUN ? s->creep_dir : 0;
 }
 
-/* ---- the tick (the common path is stp_servo in stepper.h) ------------------ */
-/* The setpoint stands still but the step counter is a step or two off it:
- * the generator's phase (docs/stepper.md).  Those steps at <lv>. */
-void stp_trim(unsigned n)
-{
-    axis_t *x = axis_at[n];
-    stp_t *s = &stp_ax[n];
-    int32_t e = x->ferr;
-    if (e < -TRIM_MAX || e > TRIM_MAX || s->creep != CREEP_IDLE) {
-        s->rate = 0;
-        return;
-    }
-    int8_t dir = e < 0 ? -1 : 1;
-    s->dir = dir;
-    s->obits = (uint16_t)((s->obits & ~AX_CTRL_DIR) | stp_dir_bit(x, dir));
-    s->carry = 0;
-    hal_wr16(AX_REG(n, AX_PULSES), (uint16_t)(e < 0 ? -e : e));
-    s->creep = CREEP_TRIM;
-    s->rate = s->lv_rate;
-}
-
-/* stp_servo (stepper.h) in every case: creep and trim, a new direction,
- * stand-still, a jump.  One copy per axis (stp_servo_full_0..3), so that
- * the axis, its stp_t and its registers are constants: the tick in which
- * four creep phases begin runs four of them. */
-FW_INLINE void servo_full(unsigned n, unsigned phase, int32_t old_i,
-                                                             uint16_t old_f)
+/* creep_tick per axis, for the tick's rate stage (stepper.h stp_rate) */
+FW_INLINE int creep_tick_at(unsigned n, unsigned phase, int32_t old_i, uint16_t old_f)
 {
     axis_t *x = &axes[n];
-    PIN_PTR(x);
     stp_t *s = &stp_ax[n];
+    PIN_PTR(x);                                  /* fields at d16(An), not absolute addresses */
     PIN_PTR(s);
-    if (s->creep != CREEP_IDLE) {
-        int c = creep_tick(x, s, n, phase, old_i, old_f);
-        if (c == 1)
-            return;
-        if (c == 2) {
-            old_i = x->sp_i;
-            old_f = x->sp_f;
-        }
-    }
-    /* the setpoint of the last tick is where its steps have brought the
-     * axis by now (the steps of this tick are still to come, 4.8.1) */
-    int32_t di = x->sp_i - old_i;
-    int32_t d;
-    if (di > 30000 || di < -30000)
-        d = di > 0 ? 0x7FFFFFFF : -0x7FFFFFFF;
-    else
-        d = (int32_t)((uint32_t)di << 16) + (int32_t)x->sp_f - (int32_t)old_f;
-    int32_t sp = old_i + (old_f >= 0x8000u);
-    x->setpoint = sp;
-    x->ferr = pos_sub(sp, x->meas);
-    if (d == 0) {
-        /* stand-still: the step counter must read the setpoint (stp_trim) */
-        if (x->ferr && !s->rate && !x->prof.vel && !(stp_conv & (1u << n)))
-            stp_trim(n);
-        else
-            s->rate = 0;
-        return;
-    }
-    int8_t dir = 1;
-    uint32_t mag = (uint32_t)d;
-    if (d < 0) {
-        dir = -1;
-        mag = (uint32_t)-d;
-    }
-    if (dir != s->dir) {                         /* a new direction: DIR, and no remainder */
-        s->dir = dir;
-        s->carry = 0;
-        s->obits = (uint16_t)((s->obits & ~AX_CTRL_DIR) | stp_dir_bit(x, dir));
-    }
-    uint32_t t = mag + s->carry;
-    stp_load_rate(s, t < mag ? 0xFFFFFFFFu : t);  /* a wrapped sum saturates */
+    return creep_tick(x, s, n, phase, old_i, old_f);
 }
-
-void stp_servo_full_0(unsigned phase, int32_t old_i, uint16_t old_f) { servo_full(0, phase, old_i, old_f); }
-void stp_servo_full_1(unsigned phase, int32_t old_i, uint16_t old_f) { servo_full(1, phase, old_i, old_f); }
-void stp_servo_full_2(unsigned phase, int32_t old_i, uint16_t old_f) { servo_full(2, phase, old_i, old_f); }
-void stp_servo_full_3(unsigned phase, int32_t old_i, uint16_t old_f) { servo_full(3, phase, old_i, old_f); }
+int stp_creep_tick_0(unsigned phase, int32_t old_i, uint16_t old_f) { return creep_tick_at(0, phase, old_i, old_f); }
+int stp_creep_tick_1(unsigned phase, int32_t old_i, uint16_t old_f) { return creep_tick_at(1, phase, old_i, old_f); }
+int stp_creep_tick_2(unsigned phase, int32_t old_i, uint16_t old_f) { return creep_tick_at(2, phase, old_i, old_f); }
+int stp_creep_tick_3(unsigned phase, int32_t old_i, uint16_t old_f) { return creep_tick_at(3, phase, old_i, old_f); }
 
 /* axis_output, disabled (with something to switch off) or in test mode. */
 void stp_idle_output(unsigned n)

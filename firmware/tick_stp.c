@@ -24,7 +24,7 @@ FW_INLINE void stp_tick_measure(unsigned n)
     if (mk == MK_COUNTER)
         measure_apply(x, measure_steps(x, n, measure_counter(x, n)));
     else if (mk != MK_NONE)                       /* MK_NONE: position reads 0 before INIT (4.9) */
-        measure_ext(x, &meas_cfg[n], n);          /* <et> 3/4 (measure.h) */
+        stp_measure_ext(x, &meas_cfg[n], n);      /* <et> 3/4 (stepper.h) */
 }
 
 /* At each SP boundary: take the segment the main loop prepared (motion_profile.c,
@@ -55,51 +55,78 @@ FW_INLINE int stp_take_segment(unsigned n)
 }
 
 /* One axis of the STP tick after its measurement: the setpoint, the step
- * rate (stepper.h), the outputs. */
-FW_INLINE void stp_tick_axis(unsigned n, unsigned phase)
+ * rate (stepper.h stp_rate), the outputs.  One body, instantiated with a
+ * constant path (STP_PATH_*, the axis' stp_path) so that neither the mode
+ * nor the brake is tested in it. */
+FW_INLINE void stp_axis(unsigned n, unsigned phase, unsigned path)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
-    if (x->mode == M_DISABLE) {
-        x->setpoint = x->meas;
-        x->ferr = 0;
-    } else if (x->mode != M_TEST) {
-        /* Setpoint: the SP segment in four steps, integer + Q16 fraction in
-         * 32 bits; the segment's start and end are taken exactly from the
-         * profile. */
-        int32_t old_i = x->sp_i;
-        uint16_t old_f = x->sp_f;
-        if (x->braking) {                        /* a stop that cannot wait for the next SP */
-            int32_t v = brake_slower(x), ssf = x->br_ssf;
-            if (v <= ssf && v >= -ssf) {
-                /* from <ssf> or less a stepper stops at once (5.14); a ramp step
-                 * that would jump from above it to below it ends at <ssf> first */
-                int32_t w = x->br_v;
-                v = w > ssf ? ssf : w < -ssf ? -ssf : 0;
-            }
-            brake_step(x, v);
-            int32_t i;
-            uint16_t f;
-            brake_split(x, &i, &f);              /* into locals: they alias nothing */
-            x->sp_i = i;
-            x->sp_f = f;
-        } else if (phase == 3) {
-            x->sp_i = x->end_i;
-            x->sp_f = x->end_f;
-        } else {
-            if (phase == 0) {
-                x->sp_i = x->start_i;
-                x->sp_f = x->start_f;
-            }
-            uint32_t f = (uint32_t)x->sp_f + x->st_f;
-            x->sp_i = pos_add(pos_add(x->sp_i, x->st_i), (int32_t)(f >> 16));
-            x->sp_f = (uint16_t)f;
+    stp_t *s = &stp_ax[n];
+    PIN_PTR(s);
+    if (path == STP_PATH_IDLE) {
+        if (x->mode == M_DISABLE) {
+            x->setpoint = x->meas;
+            x->ferr = 0;
         }
-        x->setpoint = pos_add(x->sp_i, x->sp_f >= 0x8000u);
-        x->ferr = pos_sub(x->setpoint, x->meas);
-        stp_servo(x, n, phase, old_i, old_f);    /* step rate, creep phase, RFE (stepper.h) */
+        axis_output_at(n, 0);   /* the step rate and DIR, BOOST, TURBO (stp_output); test mode: <da> in Hz */
+        return;
     }
-    axis_output_at(n, 0);   /* the step rate and DIR, BOOST, TURBO (stp_output); test mode: <da> in Hz */
+    /* Setpoint: the SP segment in four steps, integer + Q16 fraction in 32
+     * bits; the segment's start and end are taken exactly from the profile. */
+    int32_t old_i = x->sp_i;
+    uint16_t old_f = x->sp_f;
+    if (path == STP_PATH_BRAKE) {                /* a stop that cannot wait for the next SP */
+        int32_t v = brake_slower(x), ssf = x->br_ssf;
+        if (v <= ssf && v >= -ssf) {
+            /* from <ssf> or less a stepper stops at once (5.14); a ramp step
+             * that would jump from above it to below it ends at <ssf> first */
+            int32_t w = x->br_v;
+            v = w > ssf ? ssf : w < -ssf ? -ssf : 0;
+        }
+        brake_step(x, v);
+        int32_t i;
+        uint16_t f;
+        brake_split(x, &i, &f);                  /* into locals: they alias nothing */
+        x->sp_i = i;
+        x->sp_f = f;
+    } else if (phase == 3) {
+        x->sp_i = x->end_i;
+        x->sp_f = x->end_f;
+    } else {
+        int32_t i = old_i;
+        uint16_t f = old_f;
+        if (phase == 0) {
+            i = x->start_i;
+            f = x->start_f;
+        }
+        uint32_t t = (uint32_t)f + x->st_f;
+        x->sp_i = pos_add(pos_add(i, x->st_i), (int32_t)(t >> 16));
+        x->sp_f = (uint16_t)t;
+    }
+    stp_rate(x, s, n, phase, old_i, old_f);      /* step rate, creep phase, setpoint, RFE */
+    /* the outputs of a running axis (tick.h axis_output_at, stp_output):
+     * /EN, DIR, BOOST, TURBO and the rate the rate stage prepared */
+    uint16_t ctrl = (uint16_t)((x->ctrl & ~(AX_CTRL_EN | STP_OBITS)) | AX_CTRL_EN | s->obits);
+    uint16_t rate = s->rate;
+    x->ctrl = ctrl;
+    x->out = (int16_t)rate;
+    hal_wr16(AX_REG(n, AX_CTRL), ctrl);
+    hal_wr16(AX_REG(n, AX_DAC), rate);
+}
+
+/* One axis: its measurement, then the body its path byte names, read after
+ * the measurement (an encoder error disables the axis there). */
+FW_INLINE void stp_tick_axis(unsigned n, unsigned phase)
+{
+    stp_tick_measure(n);
+    uint8_t path = axes[n].stp_path;
+    if (path == STP_PATH_RUN)
+        stp_axis(n, phase, STP_PATH_RUN);
+    else if (path == STP_PATH_BRAKE)
+        stp_axis(n, phase, STP_PATH_BRAKE);
+    else
+        stp_axis(n, phase, STP_PATH_IDLE);
 }
 
 void fw_isr_tick(void)
@@ -113,13 +140,9 @@ void fw_isr_tick(void)
     }
     /* four times with a constant n: absolute register addresses, the axis
      * in an address register */
-    stp_tick_measure(0);
     stp_tick_axis(0, phase);
-    stp_tick_measure(1);
     stp_tick_axis(1, phase);
-    stp_tick_measure(2);
     stp_tick_axis(2, phase);
-    stp_tick_measure(3);
     stp_tick_axis(3, phase);
     card_ticks++;
 }

@@ -1,16 +1,18 @@
 /*
  * ref_stp.c - the MAC4-STP tick's floor routines against the firmware's C
- * (floorrun.c, bench/floor/README.md).  Compiled with the firmware's
- * stp_rate.c (the step rate: stp_servo_full_N, stp_trim,
- * stp_idle_output), measure.c and params.c for the host; stepper.h's
- * inline stp_servo, stp_output, stp_measured, measure.h's counter.  The
- * tick's glue - card.c's STP fw_isr_tick, stp_take_segment,
- * stp_tick_measure, stp_tick_axis, axis_output_at and the axis-state
- * changes of an encoder error - and stepper.c's stp_counts are restated
- * below statement for statement (they are static there, or in files that
- * bring the whole motion code).
+ * (floorrun.c, bench/floor/README.md).  The tick is the firmware's own:
+ * tick_stp.c (fw_isr_tick, stp_take_segment, the axis body and its
+ * instantiations per path), tick.h, stepper.h's rate stage, stp_rate.c's
+ * creep phase, stp_meas.c's measurement, stepper.c, axis.c's state changes
+ * of an encoder error and motion.c's motion_hold, compiled for the host
+ * (floor.mk FLOOR_REF_stp).  Here: the card's state those files leave to
+ * others (card.c's, cmd.c's globals), the functions they reach that no
+ * input of the check gets to (each aborts the run), the inputs, and the
+ * supervision and the command path, restated (card.c's and cmd.c's are
+ * static, or in files that bring the whole main loop).
  */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "fw.h"
 #include "hal.h"
@@ -41,7 +43,7 @@ _Static_assert(M_DISABLE == FL_M_DISABLE && M_TEST == FL_M_TEST && MK_COUNTER ==
                US_LOGO_F == FL_US_LOGO_F && US_ENCODER_F == FL_US_ENCODER_F && ERR_LOGICAL == FL_ERR_LOGICAL,
                "floor.h's numbers are the firmware's");
 
-/* ---- the firmware state (card.c's and stepper.c's globals) ---------------- */
+/* ---- the firmware state (card.c's globals) ---------------------------------- */
 axis_t axes[MAC4_NAXES];
 axis_t *const axis_at[MAC4_NAXES] = {&axes[0], &axes[1], &axes[2], &axes[3]};
 uint32_t card_ticks;
@@ -49,8 +51,6 @@ uint16_t card_profile_late;
 volatile uint8_t card_profile_due;
 uint32_t card_ostat;
 uint16_t card_err_report;
-stp_t stp_ax[MAC4_NAXES];
-uint8_t stp_conv;
 /* card.c's statics of the supervision, cmd.c's and serial.c's counters it
  * publishes, ext.c's switch; the command path's (cmd.c, serial.c, motion.c) */
 uint32_t card_supervised;
@@ -61,189 +61,20 @@ uint32_t virq_lost;                         /* card.h */
 static uint32_t n_commands, n_rsp_lost, n_queue_errors, serial_stats[8];
 static uint8_t serial_rx_work, serial_fifo_count, wd_fired, n_held, queue_bad, last_valid_axis, irq12;
 uint8_t cmd_mr;
-uint8_t motion_vq_due;
+uint8_t card_servo_general;
 static int32_t par_wd;
 static int beyond;
 
-/* stepper.c */
-int32_t stp_counts(unsigned n)
+/* what the compiled files reach beyond the tick's paths: never on an
+ * input of the check (a routine would stop on ILLEGAL there) */
+static void unreached(const char *f)
 {
-    if (stp_conv & (1u << n))
-        return stp_ax[n].inc;
-    return (axes[n].ustat & UB(REV_O)) ? -axes[n].meas : axes[n].meas;
+    fprintf(stderr, "floorrun: ref_stp.c: %s reached: an input beyond the check's paths\n", f);
+    abort();
 }
-/* measure_init's, never called here (the inputs set the state themselves) */
-void stp_init(unsigned n) { (void)n; }
-void axis_prepare(unsigned n) { (void)n; }
-void axis_set_pos(unsigned n) { (void)n; }
+void ext_axis_init(unsigned n) { (void)n; unreached("ext_axis_init"); }     /* INIT's */
 static int vme_irqs;
 void vme_irq(uint8_t vector) { vme_irqs += vector != 0; }   /* the DPRAM path only: never in these inputs */
-
-/* motion.c motion_hold (STP), for stp_creep_abort, restated (motion.c
- * brings the whole motion code) */
-void motion_hold(unsigned n)
-{
-    axis_t *x = axis_at[n];
-    x->prof.pos = (int64_t)x->meas * 65536;
-    x->prof.vel = 0;
-    x->nx_ready = 0;
-    x->sp_i = x->start_i = x->end_i = (int32_t)(x->prof.pos >> 16);
-    x->sp_f = x->start_f = x->end_f = (uint16_t)x->prof.pos;
-    x->st_i = 0;
-    x->st_f = 0;
-    x->braking = 0;
-}
-
-/* ---- card.c, STP: the axis state an encoder error changes, and the tick -- */
-static inline void axis_output_at(unsigned n, int32_t out)
-{
-    axis_t *x = &axes[n];
-    uint16_t ctrl = (uint16_t)(x->ctrl & ~AX_CTRL_EN);
-    if (x->mode != M_DISABLE)
-        ctrl |= AX_CTRL_EN;
-    (void)out;
-    out = stp_output(n, x->mode, &ctrl);
-    x->ctrl = ctrl;
-    x->out = (int16_t)out;
-    hal_wr16(AX_REG(n, AX_CTRL), ctrl);
-    hal_wr16(AX_REG(n, AX_DAC), (uint16_t)out);
-}
-
-void axis_set_mode(unsigned n, uint8_t mode)
-{
-    axis_t *x = &axes[n];
-    x->mode = mode;
-    x->ustat = (x->ustat & ~US_MODE_MASK) | mode;
-    if (mode == M_DISABLE) {
-        x->ustat &= ~UB(DR_EN);
-    } else {
-        x->ustat |= UB(DR_EN);
-        meas_cfg[n].failed = 0;
-    }
-}
-
-void axis_disable(unsigned n)
-{
-    axis_set_mode(n, M_DISABLE);
-    axis_output_at(n, 0);
-    axes[n].stop_then = STOP_NONE;
-    axes[n].stop_settle = 0;
-    axes[n].next_mode = NO_MODE;
-}
-
-void axis_error(unsigned n, uint32_t ubit, uint16_t code)
-{
-    axes[n].ustat |= ubit;
-    axes[n].err_report = code;
-}
-
-static inline int32_t brake_slower(const axis_t *x)
-{
-    int32_t v = x->br_v, dv = x->br_dec;
-    if (v > 0)
-        v = v > dv ? v - dv : 0;
-    else if (v < 0)
-        v = v < -dv ? v + dv : 0;
-    return v;
-}
-
-static inline void brake_step(axis_t *x, int32_t v)
-{
-    x->br_v = v;
-    x->br_posh += v;
-}
-
-static void stp_tick_measure(unsigned n)
-{
-    axis_t *x = &axes[n];
-    uint8_t mk = x->mk_tick;
-    if (mk == MK_COUNTER)
-        measure_apply(x, measure_steps(x, n, measure_counter(x, n)));
-    else if (mk != MK_NONE)
-        measure_ext(x, &meas_cfg[n], n);
-}
-
-static int stp_take_segment(unsigned n)
-{
-    axis_t *x = &axes[n];
-    if (x->braking)
-        return 0;
-    if (x->nx_ready) {
-        x->start_i = x->nx_start_i;
-        x->start_f = x->nx_start_f;
-        x->st_i = x->nx_st_i;
-        x->st_f = x->nx_st_f;
-        x->end_i = x->nx_end_i;
-        x->end_f = x->nx_end_f;
-        x->nx_ready = 0;
-        return 0;
-    }
-    x->start_i = x->end_i;
-    x->start_f = x->end_f;
-    x->st_i = 0;
-    x->st_f = 0;
-    return x->mode != M_DISABLE && x->mode != M_TEST;
-}
-
-static void stp_tick_axis(unsigned n, unsigned phase)
-{
-    axis_t *x = &axes[n];
-    if (x->mode == M_DISABLE) {
-        x->setpoint = x->meas;
-        x->ferr = 0;
-    } else if (x->mode != M_TEST) {
-        int32_t old_i = x->sp_i;
-        uint16_t old_f = x->sp_f;
-        if (x->braking) {
-            int32_t v = brake_slower(x), ssf = x->br_ssf;
-            if (v <= ssf && v >= -ssf) {
-                int32_t w = x->br_v;
-                v = w > ssf ? ssf : w < -ssf ? -ssf : 0;
-            }
-            brake_step(x, v);
-            int32_t i;
-            uint16_t f;
-            brake_split(x, &i, &f);
-            x->sp_i = i;
-            x->sp_f = f;
-        } else if (phase == 3) {
-            x->sp_i = x->end_i;
-            x->sp_f = x->end_f;
-        } else {
-            if (phase == 0) {
-                x->sp_i = x->start_i;
-                x->sp_f = x->start_f;
-            }
-            uint32_t f = (uint32_t)x->sp_f + x->st_f;
-            x->sp_i = pos_add(pos_add(x->sp_i, x->st_i), (int32_t)(f >> 16));
-            x->sp_f = (uint16_t)f;
-        }
-        x->setpoint = pos_add(x->sp_i, x->sp_f >= 0x8000u);
-        x->ferr = pos_sub(x->setpoint, x->meas);
-        stp_servo(x, n, phase, old_i, old_f);
-    }
-    axis_output_at(n, 0);
-}
-
-static void fw_isr_tick_ref(void)
-{
-    hal_wr16(TMR_STATUS, TMR_ST_EXPIRED);
-    unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
-    if (phase == 0) {
-        card_profile_late = (uint16_t)(card_profile_late + stp_take_segment(0) + stp_take_segment(1) +
-                                       stp_take_segment(2) + stp_take_segment(3));
-        card_profile_due = MAC4_NAXES;
-    }
-    stp_tick_measure(0);
-    stp_tick_axis(0, phase);
-    stp_tick_measure(1);
-    stp_tick_axis(1, phase);
-    stp_tick_measure(2);
-    stp_tick_axis(2, phase);
-    stp_tick_measure(3);
-    stp_tick_axis(3, phase);
-    card_ticks++;
-}
 
 /* ---- firmware state <-> the routines' memory (floor.h) --------------------- */
 static void w8(unsigned n, unsigned off, uint32_t v) { m_wr8(FLOOR_AX(n) + off, (uint8_t)v); }
@@ -521,6 +352,7 @@ static void gen_axis(unsigned n, int scen)
         x->meas = x->sp_i + (x->sp_f >= 0x8000u) + (int32_t)rnd_range(1, 3) * sign;
         x->pos = x->meas;
     }
+    stp_path_set(x);                    /* as axis_set_mode and the brake keep it */
     int mine = broad ? rnd_pct(85) : 1;
     if (routine_kind == R_COUNTER) {
         x->mk_tick = mine ? MK_COUNTER : MK_NONE;
@@ -606,7 +438,7 @@ static void gen(int scen)
 static int compare(char *msg, size_t len)
 {
     floor_restore_inputs();
-    fw_isr_tick_ref();
+    fw_isr_tick();
     pack();
     return floor_compare(msg, len, fields, sizeof fields / sizeof fields[0]);
 }
