@@ -9,6 +9,7 @@
 #   make hardening     fuzz corpus replay, 68000-only check, cppcheck, qemu witness
 #   make board-check   the generated map files are what board/mac4.toml gives
 #   make docs-check    docs/commands.md is its table's; the files and names docs mention exist
+#   make arch-check    no call cycle between firmware files but the declared interfaces
 #   make conformance   the 68000 core against the reference vectors (docs/cpu-timing.md)
 #   make debug-identical  the EPROM bytes do not depend on -g
 #   make differential  native build against the EPROM image, tick for tick
@@ -234,7 +235,7 @@ include tests/unit/unit.mk
 # `make test`, defined here once: the lanes in order; the native/68000
 # agreement and the cycle deadlines last, so that a deadline the firmware
 # misses does not keep the other lanes from running
-TEST_LANES := unit system sanitize-short hardening board-check docs-check conformance debug-identical differential timing
+TEST_LANES := unit system sanitize-short hardening board-check docs-check arch-check conformance debug-identical differential timing
 test: all $(TEST_LANES)
 system: all
 	$(PYTHON) -m pytest -q tests/system
@@ -292,6 +293,12 @@ board-check:
 docs-check: $(B)/commands.json
 	$(PYTHON) tools/commands_md.py --check $(B)/commands.json docs/commands.md
 	$(PYTHON) tools/doccheck.py
+
+# ---- the firmware's shape (docs/firmware.md): no call cycle between its files
+# but the declared interfaces of tools/callgraph.allow, read from the objects
+.PHONY: arch-check
+arch-check: images
+	$(PYTHON) tools/callgraph.py
 
 # ---- the 68000 core against the reference vectors (docs/cpu-timing.md) -----
 include tests/conformance/conformance.mk

@@ -2,27 +2,19 @@
  * axis.c - the state of an axis as commands and protective reactions change
  * it: mode, gains, error, disable, and the tick's copies of the parameters
  * (axis_prepare), which the main loop refreshes at INIT and E so that the
- * tick never looks a parameter up.
+ * tick never looks a parameter up.  It calls only down (parameters, the
+ * output stage): INIT's measurement and the standstill test, which ask the
+ * measurement, the extensions and the modes, are motion.c's
+ * (tools/callgraph.py).
  */
 #include "hal.h"
 #include "card.h"
 #include "params.h"
 #include "measure.h"
-#include "motion.h"
-#include "ext.h"
 #include "stepper.h"
 #include "tick.h"
 
 static void axis_output(unsigned n, int32_t out) { axis_output_at(n, out); }
-
-int axis_standstill(unsigned n)
-{
-    uint8_t m = axes[n].mode;
-    if (m == M_DISABLE || m == M_TEST)
-        return 1;
-    return motion_at_rest(n) && !motion_busy(n) && m != M_SPEED && m != M_VEL_TRACK &&
-           m != M_POS_TRACK && !axes[n].stop_then;
-}
 
 /* The only writer of an axis' gains, so that card_servo_general always
  * says which axes need the general filter (interrupts masked: motion_start) */
@@ -70,13 +62,6 @@ void axis_error(unsigned n, uint32_t ubit, uint16_t code)
 {
     axes[n].ustat |= ubit;
     axes[n].err_report = code;
-}
-
-void axis_init_measurement(unsigned n)
-{
-    measure_init(n);
-    axes[n].meas_sup = axes[n].meas;
-    ext_axis_init(n);                            /* the extensions follow the new measurement */
 }
 
 /* The part of axis_prepare that follows mode parameters (<mf>): all that

@@ -105,28 +105,6 @@ void ext_work_do(void)
     while (ext_due && !command_waiting());
 }
 
-uint32_t ext_load(void)
-{
-    uint32_t c = 0;
-    int fb = 0;
-    for (unsigned n = 0; n < MAC4_NAXES; n++) {
-        if (ext_comp[n].on)
-            c += ext_comp[n].rows ? EXT_W_TABLE2 : EXT_W_TABLE1;
-        if (ext_pc[n].armed)
-            c += EXT_W_COMPARE;
-    }
-    for (unsigned k = 0; k < EXT_FB_N; k++) {
-        unsigned m = (ext_fb[k].setup >> 20) & 0xFu;
-        if (m) {
-            fb = 1;
-            c += (m == FB_EXP || m == FB_TRACK) ? EXT_W_FB_FILTER : EXT_W_FB_SIMPLE;
-        }
-    }
-    return fb ? c + EXT_W_FB_AXES : c;
-}
-
-int ext_fits(uint32_t more) { return ext_load() + more <= EXT_BUDGET; }
-
 int ext_general(int ci, unsigned a, uint32_t p)
 {
     ext_fb_t *e = &ext_fb[ext_fb_sel];

@@ -24,6 +24,8 @@
 #include "params.h"
 #include "motion.h"
 #include "motion_priv.h"
+#include "measure.h"
+#include "ext.h"
 
 /* A velocity or acceleration parameter in Q16 per SP, scaled by <sf> (4.8.4). */
 int64_t vq(unsigned n, int32_t v)
@@ -307,3 +309,23 @@ int motion_busy(unsigned n)
 }
 
 int motion_at_rest(unsigned n) { return at_rest(&axes[n]); }
+
+/* Whether the axis stands for a command that needs it to (WZP, DEINIT, ...):
+ * declared with the axis' state (card.h), here since it asks the modes. */
+int axis_standstill(unsigned n)
+{
+    uint8_t m = axes[n].mode;
+    if (m == M_DISABLE || m == M_TEST)
+        return 1;
+    return motion_at_rest(n) && !motion_busy(n) && m != M_SPEED && m != M_VEL_TRACK &&
+           m != M_POS_TRACK && !axes[n].stop_then;
+}
+
+/* INIT's measurement (4.9), declared with the axis' state (card.h): here,
+ * above the measurement and the extensions it sets up. */
+void axis_init_measurement(unsigned n)
+{
+    measure_init(n);
+    axes[n].meas_sup = axes[n].meas;
+    ext_axis_init(n);                            /* the extensions follow the new measurement */
+}
