@@ -43,7 +43,7 @@ unsigned mac4_idle_pc = 1;      /* the PC watched: odd, never one, until the anc
 int mac4_idle_rec;              /* recording: cpu_m68k.c reports every memory access */
 idle_stats_t idle_stats;
 
-#define REC_PASSES 2            /* a window is one or two passes (the command poll's turn byte) */
+#define REC_PASSES 2            /* a window is one or two main-loop passes */
 #define MAX_INS 1024            /* checkpoints */
 #define CK_EVERY 16
 #define MAX_INSTR (MAX_INS * CK_EVERY / 2)

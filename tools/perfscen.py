@@ -547,6 +547,7 @@ def deadlines(runs):
         add("masked+tick", card, runs.worst_masked(card) + runs.worst_tick(card), PERIOD[card], "cycles")
         add("uart", card, runs.uart_need(card), CHAR_CYCLES, "cycles")
         add("latency", card, latency_ms(runs.get("moving", card)), BUDGET_LATENCY_MS, "ms")
+        add("latency_serial", card, latency_ms(runs.get("serial", card)), BUDGET_LATENCY_MS, "ms")
     add("latency_idle", "inc", latency_ms(runs.get("idle", "inc")), BUDGET_LATENCY_MS, "ms")
     for card in ("inc", "ssi", "stp"):
         for n in EXT_SCENARIOS[card]:
