@@ -1,7 +1,8 @@
 /*
  * cmd.c - the command dispatcher: queue or serial line -> decoder -> command
  * table (commands.def) -> the group's handler (cmd_table.h) -> response;
- * the poll loop, off-fly (5.15) and the watchdog <wd> (4.7).
+ * the poll loop and the watchdog <wd> (4.7); the commands held behind an
+ * off-fly move (5.15) wait in cmd_offfly.c.
  *
  * Order of the checks for a command (manual 3.4, 6.3):
  *   1. axis number 4..255            -> 160, overall status, nothing else happens
@@ -108,14 +109,6 @@ void cmd_irq12_update(void)
     irq12 = f;
 }
 
-/* Off-fly (5.15, docs/interpretations.md): commands for an axis whose move
- * runs off-fly wait here, in the order they came, until the move ends;
- * reads and C are answered at once, other axes are not held up. */
-#define HOLD_MAX CMD_HOLD_MAX
-static mac4_msg_t held[HOLD_MAX];
-static uint8_t n_held;
-static uint8_t held_axes;       /* bit n: a command for axis n waits in held[] */
-
 void cmd_reset(void)
 {
     queue_bad = 0;
@@ -124,15 +117,8 @@ void cmd_reset(void)
     wd_fired = 0;
     cmd_wd_last_us = 0;
     n_commands = n_rsp_lost = n_queue_errors = 0;
-    n_held = 0;
-    held_axes = 0;
+    cmd_offfly_reset();
     cmd_irq12_update();
-}
-
-unsigned cmd_held(const mac4_msg_t **list)
-{
-    *list = held;
-    return n_held;
 }
 
 /* ---- one command --------------------------------------------------------- */
@@ -314,57 +300,25 @@ static void watchdog_check(void)
         watchdog_fire();
 }
 
-/* ---- off-fly: commands in series per axis (5.15) -------------------------- */
-/* The axis' move runs off-fly: its commands wait for the end of it. */
-FW_INLINE int axis_in_series(unsigned a)
-{
-    return !(axis_at[a]->ustat & UB(ON_FLY)) && motion_busy(a);
-}
-
+/* ---- off-fly: commands in series per axis (5.15, cmd_offfly.c) ---------- */
 /* Does this command wait behind its axis' off-fly move or behind commands
  * of its axis that wait already?  Reads and C never do. */
 static int must_wait(const mac4_msg_t *m)
 {
-    unsigned a = m->axis;
-    if (a >= MAC4_NAXES || (!(held_axes & (1u << a)) && !axis_in_series(a)))
+    if (!cmd_offfly_busy(m->axis))
         return 0;
     cmd_t c = cmd_of(m->code);
     return !(kind_is_read(c.kind) || (c.kind == CK_GEN && c.arg == CI_C));
 }
 
-static __attribute__((noinline)) void hold(const mac4_msg_t *m)
-{
-    held[n_held++] = *m;
-    held_axes |= (uint8_t)(1u << m->axis);
-    if (PAR(0, WD) > 0)
-        cmd_wd_last_us = now_us();      /* a held command counts for the watchdog when it comes */
-}
-
 /* The oldest held command whose axis is free now, executed: 1; or 0. */
 static __attribute__((noinline)) int release_held(void)
 {
-    unsigned blocked = 0;
-    for (unsigned i = 0; i < n_held; i++) {
-        unsigned a = held[i].axis, bit = 1u << a;
-        if (blocked & bit)
-            continue;               /* an older command of this axis waits */
-        if (axis_in_series(a)) {
-            blocked |= bit;
-            continue;
-        }
-        mac4_msg_t m = held[i];
-        unsigned mask = 0;
-        for (unsigned k = 0; k + 1u < n_held; k++) {
-            if (k >= i)
-                held[k] = held[k + 1u];
-            mask |= 1u << held[k].axis;
-        }
-        n_held--;
-        held_axes = (uint8_t)mask;
-        execute_and_respond(&m);
-        return 1;
-    }
-    return 0;
+    mac4_msg_t m;
+    if (!cmd_offfly_next(&m))
+        return 0;
+    execute_and_respond(&m);
+    return 1;
 }
 
 /* ---- the main loop's part ------------------------------------------------- */
@@ -373,7 +327,7 @@ static __attribute__((noinline)) int release_held(void)
 static __attribute__((noinline)) void dispatch(const mac4_msg_t *in)
 {
     if (must_wait(in)) {
-        hold(in);           /* off-fly: strictly in series for its axis (5.15) */
+        cmd_offfly_hold(in);    /* off-fly: strictly in series for its axis (5.15) */
         return;
     }
     execute_and_respond(in);
@@ -439,10 +393,10 @@ void cmd_poll(void)
     watchdog_check();
     if (cmd_mr)
         return;             /* the watchdog resets the card soon */
-    if (n_held) {
+    if (cmd_n_held) {
         if (release_held())
             return;
-        if (n_held == HOLD_MAX)
+        if (cmd_n_held == CMD_HOLD_MAX)
             return;         /* no room to hold another: the interfaces wait */
     }
     uint32_t front, rear;
@@ -455,6 +409,6 @@ void cmd_poll(void)
         if (front != rear)
             vme_command(rear);
     }
-    if (serial_pending() && !cmd_mr && n_held < HOLD_MAX)
+    if (serial_pending() && !cmd_mr && cmd_n_held < CMD_HOLD_MAX)
         serial_command();
 }

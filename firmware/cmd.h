@@ -26,5 +26,11 @@ static inline int cmd_mr_pending(void) { return cmd_mr; }
  * wait, no interface is read. */
 #define CMD_HOLD_MAX 16
 unsigned cmd_held(const mac4_msg_t **list);
+/* cmd_offfly.c, for cmd.c's poll: */
+extern uint8_t cmd_n_held;              /* commands waiting (written by cmd_offfly.c only) */
+void cmd_offfly_reset(void);
+int cmd_offfly_busy(unsigned axis);     /* a valid axis whose commands wait now */
+void cmd_offfly_hold(const mac4_msg_t *m);  /* m waits, behind the others (room checked) */
+int cmd_offfly_next(mac4_msg_t *m);     /* the oldest whose axis is free, taken out: 1; or 0 */
 
 #endif
