@@ -404,10 +404,13 @@ void cmd_poll(void)
         if (!queue_bad)
             hal_wr32(DPC_QUEUE_ERRORS, ++n_queue_errors);
         queue_bad = 1;
-    } else {
+    } else if (queue_bad) {
+        /* A header found valid again is trusted from the next pass on: the
+         * host repairs it with several writes, and a read between them can
+         * pair its old front with its new rear (docs/interpretations.md). */
         queue_bad = 0;
-        if (front != rear)
-            vme_command(rear);
+    } else if (front != rear) {
+        vme_command(rear);
     }
     if (serial_pending() && !cmd_mr && cmd_n_held < CMD_HOLD_MAX)
         serial_command();

@@ -8,7 +8,9 @@
  * Checked on every main-loop pass, against the host's own view of the
  * DPRAM before and after it:
  *   - the card takes at most one command per pass, and exactly one while
- *     the header is sane, the queue holds one and no MR is pending;
+ *     the header is sane, the queue holds one and no MR is pending, but in
+ *     the pass that first finds the header sane again after a corrupt one
+ *     (trusted from the next pass: docs/interpretations.md);
  *   - a corrupt header is never read through: the card touches neither the
  *     indices nor anything else of that queue, and counts the corruption
  *     once (DPC_QUEUE_ERRORS);
@@ -128,10 +130,10 @@ static void pass(void)
     int released = answered && !taken;
     if (released) {
         FZ_CHECK(h0.n > 0, "an answer without a command");
-    } else if (!cmd_ok || mr0 || !waiting || h0.n >= CMD_HOLD_MAX) {
-        FZ_CHECK(!taken, "rear moved %u -> %u (header %s, MR %d, %u commands held, queue %s)",
-                 (unsigned)c_rear, (unsigned)c_rear1, cmd_ok ? "sane" : "corrupt", mr0, h0.n,
-                 waiting ? "not empty" : "empty");
+    } else if (!cmd_ok || mr0 || !waiting || h0.n >= CMD_HOLD_MAX || queue_bad) {
+        FZ_CHECK(!taken, "rear moved %u -> %u (header %s%s, MR %d, %u commands held, queue %s)",
+                 (unsigned)c_rear, (unsigned)c_rear1, cmd_ok ? "sane" : "corrupt",
+                 cmd_ok && queue_bad ? " again" : "", mr0, h0.n, waiting ? "not empty" : "empty");
     } else {
         FZ_CHECK(c_rear1 == q_next(c_rear, Q_NEL), "a command waits (front %u rear %u) but rear -> %u",
                  (unsigned)c_front, (unsigned)c_rear, (unsigned)c_rear1);
