@@ -1,6 +1,8 @@
-/* k_codec.c - witness kernel: the telegram codec of firmware/serial.c. */
+/* k_codec.c - witness kernel: the telegram codec, the encoder of
+ * firmware/serial.c and the decoder of firmware/serial_dec.c. */
 #include "witness.h"
 #include "serial.c"
+#include "serial_dec.c"
 
 static uint8_t pick(w_rng_t *r)
 {
