@@ -18,6 +18,7 @@
 #include "motion.h"
 #include "ext.h"
 #include "stepper.h"
+#include "stp_rate.h"
 
 static volatile uint8_t estop_seen;   /* set by the level 7 handler */
 uint32_t card_supervised;             /* card_ticks at the last card_supervise() */
