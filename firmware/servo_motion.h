@@ -82,6 +82,12 @@ FW_INLINE int position_card(axis_t *x, unsigned n)
 FW_INLINE int32_t pos_end_tol(unsigned n) { (void)n; return 0; }
 FW_INLINE void pos_end_card(axis_t *x) { (void)x; }
 
+/* ---- the supervision after every tick (motion_supervise.c) ---- */
+/* The index latched d counts from the measurement. */
+FW_INLINE int32_t index_edge_card(const axis_t *x, unsigned n, int32_t d) { (void)n; return x->meas + d; }
+/* The direction of a motion the profile does not show: none. */
+FW_INLINE int creep_dir_card(unsigned n) { (void)n; return 0; }
+
 /* ---- the justification modes (motion_justify.c) ---- */
 /* At the edge: the profile back onto it (a servo may reverse). */
 FW_INLINE void justified_card(axis_t *x) { x->prof.pos = Q16(x->edge); }

@@ -90,6 +90,12 @@ FW_INLINE int position_card(axis_t *x, unsigned n)
 FW_INLINE int32_t pos_end_tol(unsigned n) { return stp_tol(n); }
 FW_INLINE void pos_end_card(axis_t *x) { x->sstat |= SB(IN_POS); }   /* 7.1.2: STP only (LED P) */
 
+/* ---- the supervision after every tick (motion_supervise.c) ---- */
+/* The index latched d increments from here, in steps. */
+FW_INLINE int32_t index_edge_card(const axis_t *x, unsigned n, int32_t d) { (void)x; return stp_edge(n, d); }
+/* A creep phase's direction while it runs, else 0. */
+FW_INLINE int creep_dir_card(unsigned n) { return stp_creep_dir(n); }
+
 /* ---- the justification modes (motion_justify.c) ---- */
 /* At the edge: the steps stop where they are, from <lv> <= <ssf>; no jump
  * back to the edge, which would be a reversal above <ssf>. */
