@@ -13,6 +13,7 @@
 #include "measure.h"
 #include "stepper.h"
 #include "tick.h"
+#include "card_variant.h"
 
 static void axis_output(unsigned n, int32_t out) { axis_output_at(n, out); }
 
@@ -32,8 +33,6 @@ void axis_set_mode(unsigned n, uint8_t mode)
     axis_t *x = &axes[n];
     PIN_PTR(x);                                   /* one multiply by sizeof(axis_t), not one per use */
     x->mode = mode;
-    if (MAC4_CARD == MAC4_CARD_STP)
-        x->stp_path = stp_path_of(mode, x->braking);  /* the tick's body for the axis */
     x->ustat = (x->ustat & ~US_MODE_MASK) | mode;
     if (mode == M_DISABLE) {
         x->ustat &= ~UB(DR_EN);
@@ -41,12 +40,7 @@ void axis_set_mode(unsigned n, uint8_t mode)
         x->ustat |= UB(DR_EN);
         meas_cfg[n].failed = 0;                   /* the axis runs: a failure counts again (6.3.8) */
     }
-    if (MAC4_CARD != MAC4_CARD_STP) {
-        /* /EN follows the mode at once (the servo tick writes only the DAC;
-         * the STP's writes AX_CTRL every tick) */
-        x->ctrl = (uint16_t)((x->ctrl & ~AX_CTRL_EN) | (mode != M_DISABLE ? AX_CTRL_EN : 0));
-        hal_wr16(AX_REG(n, AX_CTRL), x->ctrl);
-    }
+    axis_mode_card(x, n, mode);                   /* servo: /EN at once; STP: the tick's body */
 }
 
 void axis_disable(unsigned n)
@@ -71,8 +65,7 @@ void axis_prepare_mode(unsigned n)
 {
     axis_t *x = &axes[n];
     x->mf = PAR(n, MF);
-    if (MAC4_CARD == MAC4_CARD_STP)
-        x->mf += stp_tol(n);                     /* 4.8.1: the tolerance of <ms>/(4 <es>) */
+    x->mf += axis_mf_tol(n);                     /* STP 4.8.1: the tolerance of <ms>/(4 <es>) */
     x->in_eval = 1;                              /* the switches again at the next tick */
 }
 
@@ -81,6 +74,7 @@ void axis_prepare(unsigned n)
     axis_t *x = &axes[n];
     int32_t et = PAR(n, ET);
     x->linear = PAR(n, SH) == 1;
+    /* the SSI tests here and below stay: INC and SSI link the same files */
     x->mk = et > 2 ? MK_OTHER : MAC4_CARD == MAC4_CARD_SSI ? (et == 2 && x->linear ? MK_SSI_ABS : MK_SSI)
                    : et <= 1 ? MK_COUNTER : MK_OTHER;
     x->cr = PAR(n, CR);

@@ -14,6 +14,7 @@
 #include "serial.h"
 #include "motion.h"
 #include "ext.h"
+#include "card_variant.h"
 
 axis_t axes[MAC4_NAXES];
 axis_t *const axis_at[MAC4_NAXES] = {&axes[0], &axes[1], &axes[2], &axes[3]};
@@ -23,8 +24,8 @@ uint16_t card_err_report;
 uint32_t card_ticks;
 uint8_t card_servo_general;
 
-/* the controller period (7.4): 2 ms servo, 8 ms stepper */
-#define TICK_US (MAC4_CARD == MAC4_CARD_STP ? SERVO_PERIOD_US_STP : SERVO_PERIOD_US_SERVO)
+/* the controller period (7.4): CARD_TICK_US of card_variant.h */
+#define TICK_US CARD_TICK_US
 
 static void axis_outputs_reset(unsigned n)
 {
@@ -50,7 +51,8 @@ void card_reset(void)
         x->ustat = UB(ON_FLY);                    /* on-fly after switch-on (5.15) */
         axis_set_mode(n, M_DISABLE);
         motion_hold(n);
-        /* MAC4-SSI: J1 (Gray or binary) is readable from basic init on:
+        /* (an SSI test stays in common code: INC and SSI link the same files)
+         * MAC4-SSI: J1 (Gray or binary) is readable from basic init on:
          * known before an INIT that comes ahead of the first tick reads the encoder */
         if (MAC4_CARD == MAC4_CARD_SSI && (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_GRAY))
             x->ustat |= UB(GRAY);
@@ -73,7 +75,7 @@ void card_start(void)
 {
     hal_wr16(TMR_PERIOD, TICK_US);
     uint16_t tmr = TMR_CTRL_RUN | TMR_CTRL_IE;
-    if (MAC4_CARD == MAC4_CARD_SSI)
+    if (MAC4_CARD == MAC4_CARD_SSI)               /* (INC and SSI link the same files) */
         tmr |= TMR_CTRL_SSI_WAIT;                 /* the tick comes when the SSI reads the expiry started are done */
     hal_wr16(TMR_CTRL, tmr);
     hal_wr16(UART_CTRL, UART_CTRL_RXIE);

@@ -14,6 +14,7 @@
 #include "motion.h"
 #include "measure.h"
 #include "ext.h"
+#include "card_variant.h"
 
 /* ---- targets ------------------------------------------------------------ */
 static int absolute_encoder(unsigned a)
@@ -173,15 +174,15 @@ static int do_init(unsigned a)
      * stays masked.  The parameters' activation only copies the axis'
      * written values, which no interrupt reads on a disabled axis but one at
      * a time in a single move (<irq6>, <irq5>): unmasked on every card. */
-    if (MAC4_CARD != MAC4_CARD_STP)
-        axes[a].mk_tick = MK_NONE;
+    if (!CARD_INIT_MASKED)
+        axes[a].mk_tick = MK_NONE;               /* the servo tick leaves the axis alone */
     cmd_unmask();
     params_activate(a, PK_SYS);
     params_activate(a, PK_MODE);
-    if (MAC4_CARD != MAC4_CARD_STP)
+    if (!CARD_INIT_MASKED)
         axis_init_measurement(a);
     cmd_remask();
-    if (MAC4_CARD == MAC4_CARD_STP)
+    if (CARD_INIT_MASKED)
         axis_init_measurement(a);
     axes[a].ustat |= UB(INIT);
     axes[a].next_mode = NO_MODE;

@@ -11,6 +11,7 @@
 #include "cmd_table.h"
 #include "params.h"
 #include "measure.h"
+#include "card_variant.h"
 
 /* ---- parameter writes ---------------------------------------------------- */
 int cmd_write_param_checked(unsigned a, unsigned p, int32_t v)
@@ -40,7 +41,7 @@ int cmd_write_param_checked(unsigned a, unsigned p, int32_t v)
             return ERR_LIMIT;
         break;
     case P_LV:
-        if (MAC4_CARD == MAC4_CARD_STP && v > PAR_W(a, SSF))
+        if (!card_lv_ok(a, v))
             return ERR_LIMIT;     /* 4.8.3: not above the start/stop frequency */
         break;
     case P_WD:

@@ -48,7 +48,9 @@ int measure_ea_ok(uint32_t ea, int32_t eb)
     return eb <= 16 || (ea & (VME_WIN_SIZE - 1u)) <= VME_WIN_SIZE - 4u;
 }
 
-/* Returns 0 and the raw value, or -1 when the measurement failed. */
+/* Returns 0 and the raw value, or -1 when the measurement failed.  The SSI
+ * tests in this file stay in common code: INC and SSI link the same files,
+ * the encoder interface is their one difference. */
 static int read_raw(unsigned n, uint32_t *raw)
 {
     int32_t et = PAR(n, ET);

@@ -27,21 +27,7 @@
 #include "measure.h"
 #include "ext.h"
 
-/* A velocity or acceleration parameter in Q16 per SP, scaled by <sf> (4.8.4). */
-int64_t vq(unsigned n, int32_t v)
-{
-    int32_t sf = PAR(n, SF);
-    if (MAC4_CARD == MAC4_CARD_STP) {
-        /* Hz -> steps per SP of 32 ms: x 0.032 = 134218 / 2^22 (2 ppm) */
-        int64_t q = (int64_t)prof_umul32((uint32_t)(v < 0 ? -v : v), 134218u) >> 6;
-        if (axes[n].sstat & SB(TURBO))
-            q *= 10;                             /* 4.1.3 */
-        q >>= sf;
-        return v < 0 ? -q : q;
-    }
-    return ((int64_t)v * 65536) >> sf;
-}
-
+/* vq(): the card variant's (servo_motion.c, stp_motion.c). */
 
 void vq_compute(unsigned n)
 {
@@ -102,17 +88,9 @@ void motion_hold(unsigned n)
     x->sp_f = x->start_f = x->end_f = (uint16_t)x->prof.pos;
     x->st_i = 0;
     x->st_f = 0;
-    if (MAC4_CARD != MAC4_CARD_STP) {            /* the servo tick's setpoint rows */
-        int32_t sp = x->sp_i + (x->sp_f >= 0x8000u);
-        x->sp_now = x->sp_rows[0];
-        x->sp_next = x->sp_rows[1];
-        for (unsigned k = 0; k < PROFILE_DIVIDER; k++)
-            x->sp_rows[0][k] = x->sp_rows[1][k] = sp;
-        x->sp_vel = x->sp_vel_next = 0;
-    }
+    motion_hold_card(x);                         /* the servo tick's setpoint rows */
     x->braking = 0;
-    if (MAC4_CARD == MAC4_CARD_STP)
-        stp_path_set(x);                         /* the tick's body for the axis */
+    motion_path_set(x);                          /* the tick's body for the axis */
 }
 
 /* Start the tick's own braking ramp now (interrupts masked): from the last
@@ -131,21 +109,14 @@ static void brake_now(axis_t *x, int64_t dec_sp)
         return;
     }
     x->br_dec = d;
-    int64_t pos = (int64_t)x->setpoint * 65536;
-    int32_t v = x->sp_vel / 4;
-    if (MAC4_CARD == MAC4_CARD_STP) {
-        /* the Q16 setpoint and the segment's step per tick; a stepper stops at
-         * once from <ssf> or less (5.14): br_ssf per tick */
-        pos = (int64_t)x->sp_i * 65536 + x->sp_f;
-        v = (int32_t)((uint32_t)x->st_i << 16) + (int32_t)x->st_f;
-        x->br_ssf = (int32_t)(stp_ax[x - axes].ssf >> 2);
-    }
+    int64_t pos;
+    int32_t v;
+    brake_from_card(x, &pos, &v);                /* the setpoint and its speed per tick */
     brake_set_pos(x, pos);
     x->br_v = v;
     x->nx_ready = 0;
     x->braking = 1;
-    if (MAC4_CARD == MAC4_CARD_STP)
-        stp_path_set(x);
+    motion_path_set(x);
 }
 
 /* The tick stands after brake_now(): the profile continues from there, at
@@ -161,22 +132,10 @@ void brake_done(axis_t *x)
     }
     x->prof.pos = brake_pos(x);
     x->prof.vel = 0;
-    if (MAC4_CARD != MAC4_CARD_STP) {
-        int32_t sp = brake_setpoint(x);
-        for (unsigned k = 0; k < PROFILE_DIVIDER; k++)
-            x->sp_rows[0][k] = x->sp_rows[1][k] = sp;
-        x->sp_vel = x->sp_vel_next = 0;
-    } else {
-        brake_split(x, &x->sp_i, &x->sp_f);
-        x->start_i = x->end_i = x->sp_i;
-        x->start_f = x->end_f = x->sp_f;
-        x->st_i = 0;
-        x->st_f = 0;
-    }
+    brake_done_card(x);                          /* the rows (STP: the segment) hold it */
     x->nx_ready = 0;
     x->braking = 0;
-    if (MAC4_CARD == MAC4_CARD_STP)
-        stp_path_set(x);                         /* the tick's body for the axis */
+    motion_path_set(x);                          /* the tick's body for the axis */
 }
 
 void motion_brake(unsigned n)
@@ -195,15 +154,9 @@ void motion_plan_target(unsigned n, uint8_t mode, motion_plan_t *p)
 
 void motion_plan(unsigned n, motion_plan_t *p)
 {
-    if (MAC4_CARD != MAC4_CARD_STP) {            /* the STP has no servo filter */
-        servo_set_gains(&p->gains, PAR(n, GA), PAR(n, ZE), PAR(n, PO), PAR(n, KI), PAR(n, KISC));
-        servo_set_limit(&p->gains, PAR(n, SW));  /* <sw>, torque (force) limitation */
-    }
+    motion_plan_card(n, p);                      /* servo gains, or <ssf>, <lv>, TURBO */
     /* <trt> in whole sampling periods, rounded up (5.6) */
-    uint32_t sp_ms = MAC4_CARD == MAC4_CARD_STP ? 32u : 10u;
-    p->trt_periods = (uint16_t)divu16((uint32_t)PAR(n, TRT) + sp_ms - 1u, (uint16_t)sp_ms);   /* <trt> < 2^16 */
-    if (MAC4_CARD == MAC4_CARD_STP)
-        stp_motion_plan(n, vq(n, PAR(n, SSF)), &p->stp);   /* <ssf>, <lv>, TURBO (stepper.c) */
+    p->trt_periods = (uint16_t)divu16((uint32_t)PAR(n, TRT) + CARD_SP_MS - 1u, (uint16_t)CARD_SP_MS);   /* <trt> < 2^16 */
 }
 
 void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p)
@@ -213,8 +166,6 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
         motion_hold(n);                          /* no jump when the drive comes on */
         servo_reset(&x->servo);
     }
-    if (MAC4_CARD != MAC4_CARD_STP)
-        axis_set_gains(n, &p->gains);
     x->done = 0;
     x->phase = 0;
     if (!(mode == M_RESET && x->stop_then >= STOP_DISABLE)) {
@@ -235,8 +186,7 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
     default:
         break;
     }
-    if (MAC4_CARD == MAC4_CARD_STP)
-        stp_motion_start(n, mode, &p->stp);      /* creep phase, <lv>, TURBO (stepper.c) */
+    motion_start_card(n, mode, p);               /* the gains, or creep phase, <lv>, TURBO */
     /* the velocities and the cruise limits of the new mode and target: in
      * the command, not in the profile generator's next step, but after the
      * mask (motion_after_command); until then they read as stale */
@@ -279,7 +229,7 @@ void motion_emergency(unsigned n, uint8_t then)
         x->stop_then = then;
     /* INC/SSI: a stop that disables waits for the mechanics at rest; the
      * STP is open loop: stopped is the step rate ramped to <ssf> and off */
-    x->stop_settle = MAC4_CARD != MAC4_CARD_STP && x->stop_then != STOP_HOLD;
+    x->stop_settle = CARD_STOP_SETTLES && x->stop_then != STOP_HOLD;
     vq_refresh(n);
     brake_now(x, x->q_ed);                       /* from the next tick on, not the next SP */
 }

@@ -17,10 +17,7 @@ static int sw_active(unsigned n, uint32_t ubit) { return (axes[n].ustat & ubit) 
 static void justified(unsigned n, int set_zero)
 {
     axis_t *x = axis_at[n];
-    /* (STP: the steps stop where they are, from <lv> <= <ssf>; no jump back
-     * to the edge, which would be a reversal above <ssf>) */
-    if (MAC4_CARD != MAC4_CARD_STP)
-        x->prof.pos = Q16(x->edge);
+    justified_card(x);                           /* the profile onto the edge (STP: not) */
     x->prof.vel = 0;
     x->done = 1;
     if (set_zero) {
@@ -65,8 +62,7 @@ void justify_modes(unsigned n)
         case 0:                              /* 1: find the reference switch */
             if (sw_active(n, UB(REF))) {
                 x->phase = 1;
-                /* STP: the braking ramp begins in this SP: a stepper must not pause at speed */
-                if (MAC4_CARD == MAC4_CARD_STP && ramp(p, 0, vq(n, PAR(n, HD)), vq(n, PAR(n, HD))))
+                if (brake_at_switch(p, n, PAR(n, HD)))   /* STP: braking in this SP */
                     x->phase = 2;
             } else
                 ramp(p, vq(n, hv), vq(n, PAR(n, HA)), vq(n, PAR(n, HA)));
@@ -78,8 +74,7 @@ void justify_modes(unsigned n)
         case 2:                              /* 2: left edge of the switch at <lv> */
             if (!sw_active(n, UB(REF))) {
                 p->vel = 0;
-                if (MAC4_CARD != MAC4_CARD_STP)
-                    p->pos = meas_q(n);      /* (STP: the steps stop where they are) */
+                left_switch_card(p, n);      /* onto the measurement (STP: not) */
                 arm_index(n);
                 x->phase = 3;
             } else {
@@ -106,8 +101,7 @@ void justify_modes(unsigned n)
         case 0:
             if (sw_active(n, bit)) {
                 x->phase = 1;
-                /* STP: the braking ramp begins in this SP: a stepper must not pause at speed */
-                if (MAC4_CARD == MAC4_CARD_STP && ramp(p, 0, vq(n, PAR(n, FD)), vq(n, PAR(n, FD))))
+                if (brake_at_switch(p, n, PAR(n, FD)))   /* STP: braking in this SP */
                     x->phase = 2;
             } else
                 ramp(p, sgn(dir, fv), vq(n, PAR(n, FA)), vq(n, PAR(n, FA)));

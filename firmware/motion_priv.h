@@ -19,16 +19,17 @@
 
 #define Q16(x) ((int64_t)(x) * 65536)
 
-int64_t vq(unsigned n, int32_t v);             /* a parameter in Q16 per SP, <sf> applied (4.8.4) */
+static inline int64_t meas_q(unsigned n) { return Q16(axes[n].meas); }
+static inline int at_rest(const axis_t *x) { return x->prof.vel == 0 && !x->braking; }
+
+/* the card variant's hooks (vq, ramp, ...), which use the above */
+#include "motion_card.h"
+
 void vq_compute(unsigned n);                   /* the cached vq() values (axis_t q_*) */
 
 /* The cached vq() values: recomputed when a parameter of the axis changed
- * (par_gen), TURBO changed (STP, 4.1.3: x10), and at E (the cruise limits
- * follow the target). */
-FW_INLINE uint8_t vq_turbo(const axis_t *x)
-{
-    return MAC4_CARD == MAC4_CARD_STP && (x->sstat & SB(TURBO));   /* 4.1.3: STP only */
-}
+ * (par_gen), TURBO changed (STP, 4.1.3: x10; vq_turbo), and at E (the
+ * cruise limits follow the target). */
 FW_INLINE void vq_refresh_x(axis_t *x, unsigned n)
 {
     if (x->q_gen != par_gen[n] || x->q_turbo != vq_turbo(x))
@@ -36,27 +37,11 @@ FW_INLINE void vq_refresh_x(axis_t *x, unsigned n)
 }
 #define vq_refresh(n) vq_refresh_x(axis_at[n], (n))
 
-static inline int64_t meas_q(unsigned n) { return Q16(axes[n].meas); }
-static inline int at_rest(const axis_t *x) { return x->prof.vel == 0 && !x->braking; }
 int64_t target_of(unsigned n, int32_t user);   /* a user position (with <ao>) as a target */
 void arm_index(unsigned n);                    /* the index latch for a search */
 void brake_done(axis_t *x);                    /* the tick's brake stands: the profile goes on */
 void stop_done(unsigned n);                    /* a protective stop has ended (motion_supervise.c) */
 void pos_end_check(unsigned n);                /* 5.6: <tr> for <trt> (motion_profile.c) */
-
-/* 5.14: on the STP every ramp of every mode starts from stand-still with
- * <ssf> and stops from at most <ssf> (stepper.c); set per axis by
- * profile_modes before the mode's step. */
-extern int64_t stp_ssf_now;
-#define STP_UNLIMITED ((int64_t)1 << 48)
-
-/* The ramp of every mode: the profile's, on the STP through <ssf>. */
-FW_INLINE int ramp(prof_t *p, int64_t vt, int64_t acc, int64_t dec)
-{
-    if (MAC4_CARD == MAC4_CARD_STP)
-        return stp_ramp(p, vt, acc, dec, stp_ssf_now);
-    return prof_ramp(p, vt, acc, dec);
-}
 
 void justify_modes(unsigned n);                /* one SP of 5.7-5.10 (motion_justify.c) */
 

@@ -14,8 +14,6 @@
 #include "motion.h"
 #include "motion_priv.h"
 
-int64_t stp_ssf_now;
-
 /* 4.3.1.1, 6.3.3: a linear axis in speed or velocity tracking never leaves
  * its software limits: where the step just taken (from `was`) would no longer
  * let it stop with dec before the limit ahead, the SP is instead the step of
@@ -69,7 +67,7 @@ static void next_segment_wide(axis_t *x, int64_t before);
 FW_INLINE void next_segment(axis_t *x, int64_t before)
 {
     int64_t dd = x->prof.pos - before;
-    if (MAC4_CARD != MAC4_CARD_STP && dd < (1l << 30) && dd > -(1l << 30)) {
+    if (CARD_SP_ROWS && dd < (1l << 30) && dd > -(1l << 30)) {
         rows_of(x, before, (int32_t)dd);         /* the usual SP, in 32 bits */
         return;
     }
@@ -82,7 +80,7 @@ static void next_segment_wide(axis_t *x, int64_t before)
     PIN_PTR(x);
     const prof_t *p = &x->prof;
     int64_t d64 = p->pos - before;
-    if (MAC4_CARD != MAC4_CARD_STP)
+    if (CARD_SP_ROWS)
         x->sp_vel_next = d64 > INT32_MAX ? INT32_MAX : d64 < -INT32_MAX ? -INT32_MAX : (int32_t)d64;
     split_q16(before, &x->nx_start_i, &x->nx_start_f);
     split_q16(p->pos, &x->nx_end_i, &x->nx_end_f);
@@ -96,7 +94,7 @@ static void next_segment_wide(axis_t *x, int64_t before)
         // cppcheck-suppress shiftNegativeLHS ; arithmetic (floor) on GCC, as in rows_of
         split_q16(d64 >> 2, &x->nx_st_i, &x->nx_st_f);
     }
-    if (MAC4_CARD != MAC4_CARD_STP) {
+    if (CARD_SP_ROWS) {
         /* the four ticks' setpoints: start + k step, the last exactly the end */
         int32_t *row = x->sp_next;
         int32_t i = x->nx_start_i;
@@ -122,13 +120,11 @@ void pos_end_check(unsigned n)
     int64_t d = (x->target >> 16) - x->meas;
     if (d < 0)
         d = -d;
-    if (MAC4_CARD == MAC4_CARD_STP)
-        d -= stp_tol(n);                         /* 5.6: the tolerance of <ms>/(4 <es>) */
+    d -= pos_end_tol(n);                         /* STP 5.6: the tolerance of <ms>/(4 <es>) */
     if (d <= PAR(n, TR)) {
         if (x->trt_count >= x->trt_periods) {
             x->ustat |= UB(POS_END);
-            if (MAC4_CARD == MAC4_CARD_STP)
-                x->sstat |= SB(IN_POS);          /* 7.1.2: MAC4-STP only (LED P) */
+            pos_end_card(x);                     /* STP: IN_POS, 7.1.2 (LED P) */
             vme_irq((uint8_t)PAR(n, IRQ4));
         } else {
             x->trt_count++;
@@ -175,14 +171,14 @@ void motion_profile_tick(unsigned n)
         brake_done(x);
     }
     /* INC/SSI: the positioning fast paths (the STP's positioning has its creep phase) */
-    if (MAC4_CARD != MAC4_CARD_STP && x->mode == M_POSITIONING && !x->stop_then && x->done) {
+    if (CARD_SP_ROWS && x->mode == M_POSITIONING && !x->stop_then && x->done) {
         /* on target: the setpoint stands (the step would be 0) until pos_end */
         if (!(x->ustat & UB(POS_END)))
             pos_end_check(n);
         rows_of(x, x->prof.pos, 0);
         return;
     }
-    if (MAC4_CARD != MAC4_CARD_STP && x->mode == M_POSITIONING && !x->stop_then && !x->done) {
+    if (CARD_SP_ROWS && x->mode == M_POSITIONING && !x->stop_then && !x->done) {
         vq_refresh_x(x, n);
         int64_t before = x->prof.pos;
         int32_t d;
@@ -208,11 +204,7 @@ static void profile_modes(unsigned n)
         return;                                  /* the tick has not taken the last one */
     int64_t before = p->pos;
     int64_t before_vel = p->vel;
-    if (MAC4_CARD == MAC4_CARD_STP) {
-        if (x->mode == M_DISABLE || x->mode == M_TEST)
-            stp_status(n);                       /* system status bits (else stp_profile_end) */
-        stp_ssf_now = stp_ax[n].ssf;             /* <ssf> on the rate grid, from E */
-    }
+    profile_begin_card(x, n);                    /* STP: status bits, <ssf> of the axis */
 
     if (x->mode == M_DISABLE || x->mode == M_TEST) {
         motion_hold(n);
@@ -240,13 +232,7 @@ static void profile_modes(unsigned n)
         }
         case M_VEL_TRACK: {                      /* 5.11: acceleration not limited */
             prof_t was = *p;
-            if (MAC4_CARD == MAC4_CARD_STP) {
-                /* ... but from and to stand-still through <ssf> (5.14) */
-                ramp(p, vq(n, PAR(n, VT)), STP_UNLIMITED, STP_UNLIMITED);
-            } else {
-                p->vel = vq(n, PAR(n, VT));
-                p->pos += p->vel;
-            }
+            vel_track_card(p, vq(n, PAR(n, VT)));   /* STP: through <ssf> (5.14) */
             limit_guard(x, n, &was, x->q_ed);    /* before a software limit: <ed> */
             break;
         }
@@ -257,15 +243,8 @@ static void profile_modes(unsigned n)
             break;
         }
         case M_POSITIONING:
-            if (MAC4_CARD == MAC4_CARD_STP) {
-                /* ramps to <stc> steps before the target, then the creep phase (diagram 5.2) */
-                if (!x->done && stp_positioning(n, x->q_pv, x->q_pa, x->q_pd, stp_ssf_now))
-                    x->done = 1;
-            } else if (!x->done &&
-                       (x->q_fit ? prof_position_fit(p, x->target, &x->q_l32)
-                                 : prof_position_free(p, x->target, x->q_pv, x->q_pa, x->q_pd, x->q_free))) {
+            if (!x->done && position_card(x, n))  /* STP: then the creep phase (diagram 5.2) */
                 x->done = 1;
-            }
             if (x->done && !(x->ustat & UB(POS_END)))
                 pos_end_check(n);
             break;
@@ -279,8 +258,7 @@ static void profile_modes(unsigned n)
             break;
         }
     }
-    if (MAC4_CARD == MAC4_CARD_STP)
-        stp_profile_end(n, before, before_vel); /* BOOST <bt> ahead of a move (4.1.4) */
+    profile_end_card(n, before, before_vel);     /* STP: BOOST <bt> ahead of a move (4.1.4) */
     /* the next SP's segment, for the tick to take at the boundary */
     if (x->mode != M_DISABLE && x->mode != M_TEST)
         next_segment(x, before);

@@ -110,8 +110,7 @@ void motion_supervise(unsigned n)
         uint32_t hi = hal_rd16(AX_REG(n, AX_IDX_HI));
         uint32_t raw = (hi << 16) | hal_rd16(AX_REG(n, AX_IDX_LO));
         int32_t d = (int32_t)((raw - x->counter) << 8) >> 8;   /* 24-bit counter */
-        /* STP: increments -> steps */
-        x->edge = MAC4_CARD == MAC4_CARD_STP ? stp_edge(n, d) : x->meas + d;
+        x->edge = index_edge_card(x, n, d);      /* STP: increments -> steps */
         x->idx_seen = 1;
     }
 
@@ -132,8 +131,8 @@ void motion_supervise(unsigned n)
              * limit switch it looks for (<dl> 1, 2), to its edge */
             int64_t v = x->prof.vel;
             int dir = v > 0 ? 1 : v < 0 ? -1 : 0;
-            if (MAC4_CARD == MAC4_CARD_STP && !dir)
-                dir = stp_creep_dir(n);          /* the creep phase's pulses (5.6): the profile stands */
+            if (!dir)
+                dir = creep_dir_card(n);         /* STP: the creep phase's pulses (5.6): the profile stands */
             uint32_t into = x->ustat & (dir > 0 ? UB(HWL_P) : dir < 0 ? UB(HWL_N) : 0);
             if (x->mode == M_FIND_EDGE) {
                 int32_t dl = PAR(n, DL);

@@ -10,6 +10,7 @@
 #include "hal.h"
 #include "mul16.h"
 #include "stepper.h"
+#include "stp_rate.h"
 
 #include "card.h"
 #include "params.h"

@@ -17,7 +17,7 @@
 #include "serial.h"
 #include "motion.h"
 #include "ext.h"
-#include "stepper.h"
+#include "card_variant.h"
 
 static volatile uint8_t estop_seen;   /* set by the level 7 handler */
 uint32_t card_supervised;             /* card_ticks at the last card_supervise() */
@@ -64,7 +64,8 @@ FW_INLINE void axis_inputs(unsigned n)
         return;
     x->in = in;
     x->in_eval = 0;
-    if (MAC4_CARD == MAC4_CARD_SSI) {             /* J1 is readable from basic init on */
+    /* J1 is readable from basic init on (an SSI test: INC and SSI link the same files) */
+    if (MAC4_CARD == MAC4_CARD_SSI) {
         if (in & AX_IN_GRAY)
             x->ustat |= UB(GRAY);
         else
@@ -101,7 +102,7 @@ static void publish(unsigned n)
     hal_wr32(d + DPA_SETPOINT, (uint32_t)pos_add(x->pos, x->ferr));
     hal_wr32(d + DPA_FERR, (uint32_t)x->ferr);
     /* ROUT: the DAC word, on the STP the step frequency in Hz */
-    hal_wr32(d + DPA_OUT, MAC4_CARD == MAC4_CARD_STP ? (uint32_t)stp_hz_now(n) : (uint32_t)(int32_t)x->out);
+    hal_wr32(d + DPA_OUT, card_rout(x, n));
     hal_wr32(d + DPA_VEL, (uint32_t)x->vel);
     hal_wr32(d + DPA_RAW, x->raw);
 }
@@ -122,25 +123,13 @@ static void leds(void)
             l |= (uint16_t)(SYS_LED_P << SYS_LED_SHIFT(n));
         int32_t df = PAR(n, DF);
         int df_on = df != 0 && (((hal_rd16(AX_REG(n, AX_IN)) & AX_IN_DF) != 0) ^ (df == 2));
-        if (df_on || (MAC4_CARD == MAC4_CARD_STP && (x->ustat & US_ERRORS)))
+        if (df_on || card_led_fault(x))
             l |= (uint16_t)(SYS_LED_F << SYS_LED_SHIFT(n));
     }
     hal_wr16(SYS_LEDS, l);
 }
 
-/* INC/SSI: the setpoint and following error of the tick in phase ph, as it used
- * them (RCP-side values, the following-error check): the tick itself keeps
- * only what the next tick needs. */
-FW_INLINE void tick_result(axis_t *x, unsigned ph)
-{
-    if (x->mode == M_DISABLE) {
-        x->setpoint = x->meas;
-        x->ferr = 0;
-    } else if (x->mode != M_TEST) {
-        x->setpoint = x->braking ? brake_setpoint(x) : x->sp_now[ph];
-        x->ferr = pos_sub(x->setpoint, x->meas);
-    }
-}
+/* tick_result: the card variant's (servo_card.h, stp_variant.h). */
 
 /* One axis of card_supervise_tick(), inlined four times with a constant n
  * (absolute register addresses): what the tick did, the inputs, the
@@ -151,8 +140,7 @@ FW_INLINE void supervise_axis(unsigned n, unsigned ph)
     unsigned prev = hal_irq_save();
     axis_t *x = &axes[n];
     PIN_PTR(x);
-    if (MAC4_CARD != MAC4_CARD_STP)               /* the STP's tick keeps them itself */
-        tick_result(x, ph);
+    tick_result(x, ph);                           /* INC/SSI (the STP's tick keeps them itself) */
     if (x->mk_tick != MK_NONE)                    /* RAV: the tick keeps only meas */
         x->vel = x->meas - x->meas_sup;
     if (x->mk_tick == MK_COUNTER)                 /* RED: the counter path keeps only the counter */
@@ -213,8 +201,7 @@ HAL_ISR void fw_isr_axis(void)
      * never enabled, so an index request can only be a fault: it is
      * switched off, and the latch the search waits for is left alone. */
     uint16_t pending = hal_rd16(AXIS_IRQ_PENDING);
-    if (MAC4_CARD == MAC4_CARD_STP && (pending & 0x0FF0u))
-        stp_isr(pending);                        /* creep phase: step pulses, count done */
+    card_isr_axis(pending);                      /* STP creep phase: step pulses, count done */
     if (!(pending & 0x000Fu))
         return;
     for (unsigned n = 0; n < MAC4_NAXES; n++)

@@ -11,6 +11,7 @@
 #include "mul16.h"
 #include "card.h"
 #include "stepper.h"
+#include "stp_rate.h"
 
 /* The tick's own braking ramp (motion.c brake_now): the speed of this
  * tick, br_dec closer to 0 ... */

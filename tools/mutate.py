@@ -65,11 +65,11 @@ MUTATIONS = [
     ("profile-creep", "firmware/profile.c", "            if (v < dec)\n                v = dec;",
      "            if (v < dec)\n                v = dec + 1;", ALL, None),
     # the STP's rate stage (table 4.1) and ramps
-    # (the rate path of the firmware is stepper.h's stp_load_rate and
+    # (the rate path of the firmware is stp_rate.h's stp_load_rate, stepper.h's
     # stp_hz_now, which tests/unit/test_stepper.c tests too)
     ("stp-hz-round", "firmware/stepper.h", "(mulu16(s->rate, 25000u) + 0x4000u) >> 15", "(mulu16(s->rate, 25000u)) >> 15",
      STP, None),
-    ("stp-rate-saturate", "firmware/stepper.h", "        s->rate = 0xFFFFu;", "        s->rate = 0xFFFEu;", STP, None),
+    ("stp-rate-saturate", "firmware/stp_rate.h", "        s->rate = 0xFFFFu;", "        s->rate = 0xFFFEu;", STP, None),
     ("stp-ssf-brake", "firmware/stp_profile.h", "if (rem <= (uint32_t)ssf)", "if (rem < (uint32_t)ssf)", STP,
      "equivalent: at rem == ssf (u > ssf) the mutant asks prof_must_brake32(u, dec, 0), which is 1 as well"),
     ("stp-turbo", "firmware/stepper.h", "        hz *= 10;", "        hz *= 9;", STP, None),

@@ -5,6 +5,7 @@
 #include "unit_support.h"
 #include <stdlib.h>
 #include "stepper.h"
+#include "stp_rate.h"
 
 _Static_assert(MAC4_CARD == MAC4_CARD_STP, "the STP's rate stage: built with MAC4_CARD 2 (unit.mk)");
 

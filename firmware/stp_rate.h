@@ -1,0 +1,166 @@
+/*
+ * stp_rate.h - the MAC4-STP's rate and output stage (stp_rate.c, inlined
+ * into the tick, axis_disable and the level-5 handler): the step rate of
+ * each tick, the creep phase and the trim, DIR/BOOST/TURBO, the pulse
+ * interrupts.  Above stepper.h's helpers, which it uses; docs/stepper.md.
+ */
+#ifndef STP_RATE_H
+#define STP_RATE_H
+#include "inline.h"
+#include "hal.h"
+#include "card.h"
+#include "stepper.h"
+
+void stp_idle_output(unsigned n);             /* disabled or test mode */
+
+/* The rate register for t = |distance| + carry Q16 steps in this tick: the
+ * generator adds the rate once per clock, 400 clocks per tick (TURBO 4000),
+ * so rate = t / clocks, the remainder carried to the next tick and the
+ * rates sum up to the distance exactly; at or beyond lim (clocks << 16) the
+ * register saturates and the carry is dropped.  (tests/unit/test_stepper.c) */
+FW_INLINE void stp_load_rate(stp_t *s, uint32_t t)
+{
+    if (t >= s->lim) {
+        s->carry = 0;
+        s->rate = 0xFFFFu;
+    } else {
+        uint32_t qr = stp_divu16(t, s->clocks);
+        s->carry = qr >> 16;
+        s->rate = (uint16_t)qr;
+    }
+}
+
+/* The creep phase and the trim while one is requested or running
+ * (stp_rate.c creep_tick), one copy per axis so that its state and
+ * registers are constants: 1 if the down-counter has the axis this tick
+ * (setpoint and following error set), 2 if the setpoint moved under the
+ * caller, 0 if nothing. */
+int stp_creep_tick_0(unsigned phase, int32_t old_i, uint16_t old_f);
+int stp_creep_tick_1(unsigned phase, int32_t old_i, uint16_t old_f);
+int stp_creep_tick_2(unsigned phase, int32_t old_i, uint16_t old_f);
+int stp_creep_tick_3(unsigned phase, int32_t old_i, uint16_t old_f);
+FW_INLINE int stp_creep_tick(unsigned n, unsigned phase, int32_t old_i, uint16_t old_f)
+{
+    if (n == 0)                                  /* n is a constant in the tick: one call */
+        return stp_creep_tick_0(phase, old_i, old_f);
+    if (n == 1)
+        return stp_creep_tick_1(phase, old_i, old_f);
+    if (n == 2)
+        return stp_creep_tick_2(phase, old_i, old_f);
+    return stp_creep_tick_3(phase, old_i, old_f);
+}
+
+#define STP_TRIM_MAX 3              /* stp_trim_at: at most this many steps off the setpoint */
+
+/* The setpoint stands still but the step counter is a step or two off it:
+ * the generator's phase (docs/stepper.md).  Those steps at <lv>. */
+FW_INLINE void stp_trim_at(const axis_t *x, stp_t *s, unsigned n)
+{
+    int32_t e = x->ferr;
+    if (e < -STP_TRIM_MAX || e > STP_TRIM_MAX || s->creep != CREEP_IDLE) {
+        s->rate = 0;
+        return;
+    }
+    int8_t dir = e < 0 ? -1 : 1;
+    s->dir = dir;
+    s->obits = (uint16_t)((s->obits & ~AX_CTRL_DIR) | stp_dir_bit(x, dir));
+    s->carry = 0;
+    hal_wr16(AX_REG(n, AX_PULSES), (uint16_t)(e < 0 ? -e : e));
+    s->creep = CREEP_TRIM;
+    s->rate = s->lv_rate;
+}
+
+/* Every tick, modes with a profile (tick_stp.c stp_axis, after the setpoint
+ * interpolation moved sp_i/sp_f on from old_i/old_f): the step rate for
+ * this tick's distance, the setpoint and following error.  Every case - the
+ * creep phase and the trim, on in the last direction, a new one,
+ * stand-still, a jump - in one body, inlined with a constant n. */
+FW_INLINE void stp_rate(axis_t *x, stp_t *s, unsigned n, unsigned phase, int32_t old_i, uint16_t old_f)
+{
+    if (s->creep != CREEP_IDLE) {
+        int c = stp_creep_tick(n, phase, old_i, old_f);
+        if (c == 1)
+            return;
+        if (c == 2) {
+            old_i = x->sp_i;
+            old_f = x->sp_f;
+        }
+    }
+    /* the setpoint of the last tick is where its steps have brought the
+     * axis by now (the steps of this tick are still to come, 4.8.1) */
+    int32_t di = pos_sub(x->sp_i, old_i);
+    int32_t d;
+    if ((uint32_t)di + 30000u > 60000u)          /* a jump beyond 30000 steps: the largest rate */
+        d = di > 0 ? 0x7FFFFFFF : -0x7FFFFFFF;
+    else
+        d = (int32_t)((uint32_t)di << 16) + (int32_t)x->sp_f - (int32_t)old_f;
+    int32_t sp = pos_add(old_i, old_f >= 0x8000u);
+    x->setpoint = sp;
+    x->ferr = pos_sub(sp, x->meas);
+    if (d == 0) {
+        /* stand-still: the step counter must read the setpoint (the trim) */
+        if (x->ferr && !s->rate && !x->prof.vel && !(stp_conv & (1u << n)))
+            stp_trim_at(x, s, n);
+        else
+            s->rate = 0;
+        return;
+    }
+    int8_t dir = 1;
+    uint32_t mag = (uint32_t)d;
+    if (d < 0) {
+        dir = -1;
+        mag = (uint32_t)-d;
+    }
+    if (dir != s->dir) {                         /* a new direction: DIR, and no remainder */
+        s->dir = dir;
+        s->carry = 0;
+        s->obits = (uint16_t)((s->obits & ~AX_CTRL_DIR) | stp_dir_bit(x, dir));
+    }
+    /* |d| <= 0x7FFFFFFF and the carry a 16-bit remainder: the sum cannot wrap */
+    stp_load_rate(s, mag + s->carry);
+}
+
+/* axis_output, every tick: DIR, BOOST, TURBO of AX_CTRL; returns the rate. */
+FW_INLINE uint16_t stp_output(unsigned n, uint8_t mode, uint16_t *ctrl)
+{
+    stp_t *s = &stp_ax[n];
+    PIN_PTR(s);
+    if (mode == M_TEST || (mode == M_DISABLE && (s->rate | (s->obits & AX_CTRL_BOOST))))
+        stp_idle_output(n);
+    *ctrl = (uint16_t)((*ctrl & ~STP_OBITS) | s->obits);
+    return s->rate;
+}
+
+/* Level 5 (fw_isr_axis): step pulses and the end of the pulse count, creep
+ * phase.  Inline, and one copy per axis with constant addresses: no call,
+ * no loop, no registers to save beyond the handler's own. */
+FW_INLINE void stp_isr_axis(unsigned k, unsigned p)
+{
+    if (!(p & (0x11u << k)))
+        return;
+    stp_t *s = &stp_ax[k];
+    axis_t *x = &axes[k];
+    uint16_t ack = AX_CTRL_PULSE_ACK;
+    if (p & (0x10u << k)) {                      /* the last one is out */
+        ack = AX_CTRL_PULSE_ACK | AX_CTRL_DONE_ACK;
+        x->ctrl = (uint16_t)(x->ctrl & ~(AX_CTRL_PULSE_IE | AX_CTRL_DONE_IE));
+        s->counted = s->creep_n;
+        s->hw_done = 1;
+    } else {                                     /* every pulse: count it (5.6) */
+        s->counted = (uint16_t)(s->creep_n - hal_rd16(AX_REG(k, AX_PULSES)));
+    }
+    hal_wr16(AX_REG(k, AX_CTRL), (uint16_t)(x->ctrl | ack));
+}
+
+FW_INLINE void stp_isr(uint16_t pending)
+{
+    unsigned prev = hal_irq_save();              /* the tick writes AX_CTRL too */
+    unsigned p = ((unsigned)pending >> 4) & 0xFFu;  /* bits 0-3 pulse, 4-7 done */
+    stp_isr_axis(0, p);
+    stp_isr_axis(1, p);
+    stp_isr_axis(2, p);
+    stp_isr_axis(3, p);
+    hal_irq_restore(prev);
+}
+
+#endif
