@@ -9,7 +9,8 @@
 #   make hardening     fuzz corpus replay, 68000-only check, cppcheck, qemu witness
 #   make board-check   the generated map files are what board/mac4.toml gives
 #   make docs-check    docs/commands.md is its table's; the files and names docs mention exist
-#   make arch-check    no call cycle between firmware files but the declared interfaces
+#   make arch-check    no call cycle between firmware files but the declared interfaces;
+#                      each axis_t part, status bit and parameter only by its writers
 #   make conformance   the 68000 core against the reference vectors (docs/cpu-timing.md)
 #   make debug-identical  the EPROM bytes do not depend on -g
 #   make differential  native build against the EPROM image, tick for tick
@@ -295,10 +296,13 @@ docs-check: $(B)/commands.json
 	$(PYTHON) tools/doccheck.py
 
 # ---- the firmware's shape (docs/firmware.md): no call cycle between its files
-# but the declared interfaces of tools/callgraph.allow, read from the objects
+# but the declared interfaces of tools/callgraph.allow, read from the objects;
+# each part of axis_t written by its declared writers (card.h, status.def,
+# tools/onewriter.allow), the parameters by params.c alone (docs/hardening.md)
 .PHONY: arch-check
 arch-check: images
 	$(PYTHON) tools/callgraph.py
+	$(PYTHON) tools/onewriter.py
 
 # ---- the 68000 core against the reference vectors (docs/cpu-timing.md) -----
 include tests/conformance/conformance.mk

@@ -10,28 +10,39 @@
 /* One object per axis, in parts.  Each part says who writes it and when;
  * "masked" is with interrupts masked (hal_irq_save), which every main-loop
  * writer of a part the tick reads holds.  A part with two writers is a
- * hand-over between them, and says which side writes what. */
+ * hand-over between them, and says which side writes what.  The
+ * `writers:` line before a part or a field names every file that writes it
+ * (its inline code: the header); make arch-check fails on any other
+ * (tools/onewriter.py, tools/onewriter.allow, docs/hardening.md). */
 typedef struct {
     /* status (7.1): the stages set and clear their own bits through
      * axis.c (axis_set_mode, axis_error) and the commands (cmd*.c); the
      * supervision (supervise.c, motion_supervise.c) its switch and fault
      * bits, masked */
+    /* writers: axis.c card.c cmd.c cmd_general.c ext_comp.c ext_compare.c measure.c
+     * motion_justify.c motion_profile.c motion_supervise.c stepper.c supervise.c
+     * (bit by bit: status.def USTAT_BY/SSTAT_BY) */
     struct {
         uint32_t ustat;     /* user status, manual 7.1.1 (RBS); bits 0-7 = mode */
         uint32_t sstat;     /* system status, manual 7.1.2 (RSS) */
+        /* writers: axis.c cmd.c */
         uint16_t err_report;/* error code to give as the answer to the next command, 0 none */
     };
     /* axis state: axis.c alone writes the mode (axis_set_mode); next_mode is
      * the commands' (cmd_general.c), cleared by a stop or a disable */
     struct {
+        /* writers: axis.c */
         uint8_t mode;       /* mode in force (M_*) */
+        /* writers: cmd_general.c axis.c card.c supervise.c */
         uint8_t next_mode;  /* mode selected for the next E, or NO_MODE */
     };
     /* outputs: the shadow of AX_CTRL is written with every write of the
      * register (axis.c, tick.h axis_output_at, the level 5 handler, the STP's
      * stp_rate.c), masked or in an interrupt; `out` by the tick alone */
     struct {
+        /* writers: axis.c card.c supervise.c tick.h tick_stp.c stepper.h stp_rate.c */
         uint16_t ctrl;      /* shadow of AX_CTRL */
+        /* writers: tick.h tick_servo.c tick_stp.c card.c */
         int16_t out;        /* DAC word (INC/SSI) or step rate (STP) */
     };
     /* position measurement: the tick writes meas, raw and counter (measure.h,
@@ -40,23 +51,33 @@ typedef struct {
      * pos is the main loop's (axis_set_pos); a compensation table
      * (ext_comp.c) moves meas, meas_sup and pos together, masked */
     struct {
+        /* writers: axis.c measure.h ext_comp.c */
         int32_t pos;        /* actual position: measured + <ao> (RCP) */
+        /* writers: measure.c measure.h servo_meas.c stepper.c stepper.h ext_comp.c */
         int32_t meas;       /* measured position without offset */
+        /* writers: measure.c measure.h servo_meas.c stepper.c stepper.h supervise.c */
         uint32_t raw;       /* last raw value read (RED) */
+        /* writers: measure.c measure.h servo_meas.c stepper.c stepper.h */
         uint32_t counter;   /* last processed counter content (RCT) */
+        /* writers: supervise.c measure.c */
         int32_t vel;        /* actual velocity per servo period (RAV) */
+        /* writers: supervise.c motion.c ext_comp.c */
         int32_t meas_sup;   /* meas at the last supervision: RAV of the counter path */
+        /* writers: supervise.c card.c cmd_general.c ext_comp.c */
         uint8_t mk_tick;    /* what the tick measures: mk once initialised, else MK_NONE (card_supervise) */
     };
     /* the setpoint and following error the tick used: the supervision's on
      * the INC/SSI (supervise.c tick_result), the tick's on the STP
      * (tick_stp.c, stepper.h) */
+    /* writers: supervise.c tick_stp.c stepper.h stp_rate.c */
     struct {
         int32_t setpoint;
         int32_t ferr;
     };
+    /* writers: cmd_param.c */
     int32_t zp_value;       /* last WZP value, read back by RZP (cmd_param.c) */
     /* profile generator (motion*.c, main loop, masked), measurement frame, Q16 */
+    /* writers: motion.c motion_profile.c motion_justify.c stepper.c */
     prof_t prof;
     /* the hand-over of the next SP from the profile generator to the tick:
      * motion_profile.c writes the segment (nx_*) and the next row, then sets
@@ -66,11 +87,14 @@ typedef struct {
     struct {
         /* the next SP's segment split as the tick uses it: start, step per
          * tick and end, integer + Q16 fraction */
+        /* writers: motion_profile.c */
         int32_t nx_start_i, nx_st_i, nx_end_i;
         uint16_t nx_start_f, nx_st_f, nx_end_f;
+        /* writers: motion_profile.c tick_servo.c tick_stp.c motion.c */
         volatile uint8_t nx_ready;
         /* INC/SSI: the setpoints of an SP, one per tick, rounded: the row the
          * tick uses and the next one (the tick swaps them) */
+        /* writers: motion.c motion_profile.c tick_servo.c */
         int32_t sp_rows[2][PROFILE_DIVIDER];
         int32_t *sp_now, *sp_next;
         int32_t sp_vel, sp_vel_next;    /* the rows' velocity, Q16 per SP */
@@ -79,6 +103,7 @@ typedef struct {
      * tick's (tick_stp.c, stp_rate.c's creep and trim), set again by
      * motion.c's hold and brake_done, masked */
     struct {
+        /* writers: tick_stp.c stp_rate.c motion.c */
         int32_t sp_i;       /* setpoint, integer part */
         uint16_t sp_f;      /* and Q16 fraction */
         uint16_t st_f;      /* the segment's step per tick, split the same way */
@@ -92,6 +117,7 @@ typedef struct {
      * and br_posh (tick.h brake_step) from the setpoint and speed of the
      * moment, with <ed> (or <pd>) per tick^2 */
     struct {
+        /* writers: motion.c tick.h card.h */
         int64_t br_posh;                /* setpoint, Q16, plus one half: bits 16-47 the rounded setpoint */
         int32_t br_v, br_dec;           /* Q16 per tick (0 once the ramp has ended), per tick^2 (>= 1) */
         int32_t br_ssf;                 /* STP: <ssf> per tick, Q16: from there it stops at once */
@@ -99,11 +125,13 @@ typedef struct {
         /* STP: the body of the tick that runs the axis (STP_PATH_*), which
          * follows the mode and braking: stepper.h stp_path_set, called by
          * their writers (axis_set_mode; brake_now, brake_done, motion_hold) */
+        /* writers: stepper.h axis.c */
         uint8_t stp_path;
     };
     /* the mode's motion: the motion files' (motion*.c, main loop; stepper.c
      * the STP's creep phase), masked where the tick reads them */
     struct {
+        /* writers: motion.c motion_profile.c motion_justify.c motion_supervise.c stepper.c */
         int64_t target;     /* positioning target */
         int32_t edge;       /* justification: position of the edge / index found */
         uint8_t phase;      /* phase of a justification mode */
@@ -118,6 +146,7 @@ typedef struct {
      * only with the mechanics at rest under closed-loop control, with its
      * runaway guards */
     struct {
+        /* writers: motion.c motion_supervise.c axis.c */
         uint8_t stop_then;  /* protective stop in progress: STOP_* */
         uint8_t stop_settle;    /* wait for the mechanics at rest before STOP_DISABLE/DEINIT */
         uint8_t stop_rest;      /* supervised ticks in a row with |RAV| <= STOP_REST_VEL */
@@ -136,6 +165,7 @@ typedef struct {
      * changed; q_free: prof_free_distance(<pv>, <pd>).  motion.c's alone
      * (vq_compute), main loop */
     struct {
+        /* writers: motion.c motion_profile.c */
         int64_t q_pv, q_pa, q_pd, q_ed, q_free;
         int64_t q_hi, q_lo; /* target -/+ max(q_free, q_pv) when <pv> and <pa> fit 32 bits (prof_cruise32) */
         uint8_t q_fast;     /* ... and then prof_cruise32 applies */
@@ -147,20 +177,26 @@ typedef struct {
     /* position controller (servo.c): the gains axis.c's alone
      * (axis_set_gains, at E masked), the filter's state the tick's
      * (servo_reset at E) */
+    /* writers: axis.c */
     servo_gains_t gains;
+    /* writers: tick_servo.c motion.c */
     servo_state_t servo;
     /* the tick's and the supervision's copies of parameters, prepared by
      * axis.c (axis_prepare, axis_prepare_mode) at INIT and E so that neither
      * looks one up; a compensation table (ext_comp.c) switches mk; in_eval
      * is cleared by the supervision once it has looked at the inputs */
     struct {
+        /* writers: axis.c ext_comp.c */
         uint8_t mk;         /* measurement kind, MK_* */
         uint8_t linear;     /* <sh> == 1 */
         int32_t cr, lp, ln, mf;
+        /* writers: axis.c supervise.c */
         uint8_t in_eval;    /* evaluate the inputs at the next tick even if unchanged */
+        /* writers: axis.c */
         uint16_t sw_en;     /* AX_IN bits of the switches that are configured */
         uint16_t sw_inv;    /* ... and those that are high active */
     };
+    /* writers: supervise.c */
     uint16_t in;            /* last switch inputs, AX_IN (supervise.c) */
 } axis_t;
 

@@ -658,7 +658,7 @@ GEN_FOR(R_SSI_ABS)
 GEN_FOR(R_SSI)
 GEN_FOR(R_EXT)
 
-/* ---- the supervision after a tick (card.c card_supervise_tick), on the
+/* ---- the supervision after a tick (supervise.c card_supervise_tick), on the
  * path of its floor routine (sup.inc): what lies beyond it is not an
  * input of these (beyond is set if one is) ---------------------------- */
 static int beyond;

@@ -454,7 +454,7 @@ static void gen_ext(int scen)
     gen(scen);
 }
 
-/* ---- the supervision after a tick (card.c card_supervise_tick, STP), on
+/* ---- the supervision after a tick (supervise.c card_supervise_tick, STP), on
  * the path of its floor routine (sup.inc) ---------------------------------- */
 static const uint32_t sw_ustat[8] = {
     0, UB(HWL_P), UB(HWL_N), UB(HWL_P) | UB(HWL_N), UB(REF), UB(REF) | UB(HWL_P),

@@ -45,3 +45,23 @@ def test_stale_files_and_names_are_found(tmp_path):
                    "%s:1: %s does not exist" % (page, old),
                    "%s:1: `sim_walk` is named in no source of the tree" % page,
                    "%s:1: `pos_end` is named in no source of the tree" % page], bad
+
+
+def test_a_name_cited_with_the_wrong_file_is_found(tmp_path):
+    (tmp_path / "firmware").mkdir()
+    (tmp_path / "docs").mkdir()
+    (tmp_path / "firmware" / "motion.c").write_text("void brake_now(void) {}\nint vq(int v) { return v; }\n")
+    (tmp_path / "firmware" / "stepper.h").write_text("static inline int stp_output(void) { return 0; }\n")
+    (tmp_path / "firmware" / "card.c").write_text("void card_reset(void) {}\n")
+    # the citations spelled in parts, so that this file itself cites none
+    m, c = "motion" + ".c", "card" + ".c"
+    other = "firmware" + "/other.c"
+    (tmp_path / other).write_text("/* the ramp (%s's brake_now), stepper.c (stp_output) */\n"
+                                                  "/* %s card_supervise_tick, %s, %s: vq_compute */\n" % (m, c, m, c))
+    page = "docs" + "/b.md"
+    (tmp_path / page).write_text("(`%s`, `brake_now`), `vq()` in %s, `card_reset()` (`%s`)\n" % (m, m, m))
+    bad = doccheck.check(str(tmp_path), ["firmware/motion.c", "firmware/stepper.h", "firmware/card.c",
+                                         other, page])
+    assert bad == ["%s:2: `card_supervise_tick` is not in card.c" % other,
+                   "%s:2: `vq_compute` is not in card.c" % other,
+                   "%s:1: `card_reset` is not in motion.c" % page], bad
