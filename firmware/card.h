@@ -19,7 +19,7 @@ typedef struct {
      * axis.c (axis_set_mode, axis_error) and the commands (cmd*.c); the
      * supervision (supervise.c, motion_supervise.c) its switch and fault
      * bits, masked */
-    /* writers: axis.c card.c cmd.c cmd_general.c ext_comp.c ext_compare.c measure.c
+    /* writers: axis.c card.c cmd.c cmd_general.c ext_comp.c ext_compare.c measure.c stp_motion.h
      * motion_justify.c motion_profile.c motion_supervise.c stepper.c supervise.c
      * (bit by bit: status.def USTAT_BY/SSTAT_BY) */
     struct {
@@ -40,7 +40,7 @@ typedef struct {
      * register (axis.c, tick.h axis_output_at, the level 5 handler, the STP's
      * stp_rate.c), masked or in an interrupt; `out` by the tick alone */
     struct {
-        /* writers: axis.c card.c supervise.c tick.h tick_stp.c stepper.h stp_rate.c */
+        /* writers: axis.c card.c supervise.c tick.h tick_stp.c stepper.h stp_rate.c servo_card.h stp_rate.h */
         uint16_t ctrl;      /* shadow of AX_CTRL */
         /* writers: tick.h tick_servo.c tick_stp.c card.c */
         int16_t out;        /* DAC word (INC/SSI) or step rate (STP) */
@@ -69,7 +69,7 @@ typedef struct {
     /* the setpoint and following error the tick used: the supervision's on
      * the INC/SSI (supervise.c tick_result), the tick's on the STP
      * (tick_stp.c, stepper.h) */
-    /* writers: supervise.c tick_stp.c stepper.h stp_rate.c */
+    /* writers: supervise.c tick_stp.c stepper.h stp_rate.c servo_card.h stp_rate.h */
     struct {
         int32_t setpoint;
         int32_t ferr;
@@ -77,7 +77,7 @@ typedef struct {
     /* writers: cmd_param.c */
     int32_t zp_value;       /* last WZP value, read back by RZP (cmd_param.c) */
     /* profile generator (motion*.c, main loop, masked), measurement frame, Q16 */
-    /* writers: motion.c motion_profile.c motion_justify.c stepper.c */
+    /* writers: motion.c motion_profile.c motion_justify.c stepper.c servo_motion.h */
     prof_t prof;
     /* the hand-over of the next SP from the profile generator to the tick:
      * motion_profile.c writes the segment (nx_*) and the next row, then sets
@@ -94,7 +94,7 @@ typedef struct {
         volatile uint8_t nx_ready;
         /* INC/SSI: the setpoints of an SP, one per tick, rounded: the row the
          * tick uses and the next one (the tick swaps them) */
-        /* writers: motion.c motion_profile.c tick_servo.c */
+        /* writers: motion.c motion_profile.c tick_servo.c servo_motion.h */
         int32_t sp_rows[2][PROFILE_DIVIDER];
         int32_t *sp_now, *sp_next;
         int32_t sp_vel, sp_vel_next;    /* the rows' velocity, Q16 per SP */
@@ -103,7 +103,7 @@ typedef struct {
      * tick's (tick_stp.c, stp_rate.c's creep and trim), set again by
      * motion.c's hold and brake_done, masked */
     struct {
-        /* writers: tick_stp.c stp_rate.c motion.c */
+        /* writers: tick_stp.c stp_rate.c motion.c stp_motion.h */
         int32_t sp_i;       /* setpoint, integer part */
         uint16_t sp_f;      /* and Q16 fraction */
         uint16_t st_f;      /* the segment's step per tick, split the same way */
@@ -117,7 +117,7 @@ typedef struct {
      * and br_posh (tick.h brake_step) from the setpoint and speed of the
      * moment, with <ed> (or <pd>) per tick^2 */
     struct {
-        /* writers: motion.c tick.h card.h */
+        /* writers: motion.c tick.h card.h stp_motion.h */
         int64_t br_posh;                /* setpoint, Q16, plus one half: bits 16-47 the rounded setpoint */
         int32_t br_v, br_dec;           /* Q16 per tick (0 once the ramp has ended), per tick^2 (>= 1) */
         int32_t br_ssf;                 /* STP: <ssf> per tick, Q16: from there it stops at once */
@@ -125,7 +125,7 @@ typedef struct {
         /* STP: the body of the tick that runs the axis (STP_PATH_*), which
          * follows the mode and braking: stepper.h stp_path_set, called by
          * their writers (axis_set_mode; brake_now, brake_done, motion_hold) */
-        /* writers: stepper.h axis.c */
+        /* writers: stepper.h axis.c stp_variant.h */
         uint8_t stp_path;
     };
     /* the mode's motion: the motion files' (motion*.c, main loop; stepper.c
@@ -165,7 +165,7 @@ typedef struct {
      * changed; q_free: prof_free_distance(<pv>, <pd>).  motion.c's alone
      * (vq_compute), main loop */
     struct {
-        /* writers: motion.c motion_profile.c */
+        /* writers: motion.c motion_profile.c servo_motion.h */
         int64_t q_pv, q_pa, q_pd, q_ed, q_free;
         int64_t q_hi, q_lo; /* target -/+ max(q_free, q_pv) when <pv> and <pa> fit 32 bits (prof_cruise32) */
         uint8_t q_fast;     /* ... and then prof_cruise32 applies */

@@ -34,7 +34,7 @@ FW_INLINE void brake_step(axis_t *x, int32_t v)
 
 /* The outputs of axis n: /EN from the mode, and the DAC word (INC/SSI) or,
  * on the STP, DIR, BOOST, TURBO and the step rate register prepared by
- * stepper.c (stp_output; `out` is not used: the rate is exact to the Q16
+ * stp_rate.h (stp_output; `out` is not used: the rate is exact to the Q16
  * step). */
 FW_INLINE void axis_output_at(unsigned n, int32_t out)
 {

@@ -54,10 +54,10 @@ def test_a_name_cited_with_the_wrong_file_is_found(tmp_path):
     (tmp_path / "firmware" / "stepper.h").write_text("static inline int stp_output(void) { return 0; }\n")
     (tmp_path / "firmware" / "card.c").write_text("void card_reset(void) {}\n")
     # the citations spelled in parts, so that this file itself cites none
-    m, c = "motion" + ".c", "card" + ".c"
+    m, c, st = "motion" + ".c", "card" + ".c", "stepper" + ".c"
     other = "firmware" + "/other.c"
-    (tmp_path / other).write_text("/* the ramp (%s's brake_now), stepper.c (stp_output) */\n"
-                                                  "/* %s card_supervise_tick, %s, %s: vq_compute */\n" % (m, c, m, c))
+    (tmp_path / other).write_text("/* the ramp (%s's brake_now), %s (stp_output) */\n"
+                                                  "/* %s card_supervise_tick, %s, %s: vq_compute */\n" % (m, st, c, m, c))
     page = "docs" + "/b.md"
     (tmp_path / page).write_text("(`%s`, `brake_now`), `vq()` in %s, `card_reset()` (`%s`)\n" % (m, m, m))
     bad = doccheck.check(str(tmp_path), ["firmware/motion.c", "firmware/stepper.h", "firmware/card.c",
