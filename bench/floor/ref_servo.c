@@ -18,6 +18,7 @@
 #include "motion.h"
 #include "cmd.h"
 #include "cmd_table.h"
+#include "servo_card.h"         /* tick_result, as the supervision uses it */
 #include <stddef.h>
 #include "floor.h"
 #include "floorrun.h"
@@ -663,16 +664,7 @@ GEN_FOR(R_EXT)
  * input of these (beyond is set if one is) ---------------------------- */
 static int beyond;
 
-static inline void tick_result(axis_t *x, unsigned ph)
-{
-    if (x->mode == M_DISABLE) {
-        x->setpoint = x->meas;
-        x->ferr = 0;
-    } else if (x->mode != M_TEST) {
-        x->setpoint = x->braking ? brake_setpoint(x) : x->sp_now[ph];
-        x->ferr = pos_sub(x->setpoint, x->meas);
-    }
-}
+/* tick_result: the firmware's own (servo_card.h, included above). */
 
 static const uint32_t sw_ustat[8] = {
     0, UB(HWL_P), UB(HWL_N), UB(HWL_P) | UB(HWL_N), UB(REF), UB(REF) | UB(HWL_P),
