@@ -40,7 +40,7 @@ typedef struct {
      * register (axis.c, tick.h axis_output_at, the level 5 handler, the STP's
      * stp_rate.c), masked or in an interrupt; `out` by the tick alone */
     struct {
-        /* writers: axis.c card.c supervise.c tick.h tick_stp.c stepper.h stp_rate.c servo_card.h stp_rate.h */
+        /* writers: axis.c card.c supervise.c tick.h tick_stp.c stp_rate.c servo_card.h stp_rate.h */
         uint16_t ctrl;      /* shadow of AX_CTRL */
         /* writers: tick.h tick_servo.c tick_stp.c card.c */
         int16_t out;        /* DAC word (INC/SSI) or step rate (STP) */
@@ -53,11 +53,11 @@ typedef struct {
     struct {
         /* writers: axis.c measure.h ext_comp.c */
         int32_t pos;        /* actual position: measured + <ao> (RCP) */
-        /* writers: measure.c measure.h servo_meas.c stepper.c stepper.h ext_comp.c */
+        /* writers: measure.c measure.h stepper.c ext_comp.c */
         int32_t meas;       /* measured position without offset */
-        /* writers: measure.c measure.h servo_meas.c stepper.c stepper.h supervise.c */
+        /* writers: measure.c measure.h servo_meas.c stepper.h supervise.c */
         uint32_t raw;       /* last raw value read (RED) */
-        /* writers: measure.c measure.h servo_meas.c stepper.c stepper.h */
+        /* writers: measure.c measure.h servo_meas.c stepper.h */
         uint32_t counter;   /* last processed counter content (RCT) */
         /* writers: supervise.c measure.c */
         int32_t vel;        /* actual velocity per servo period (RAV) */
@@ -69,7 +69,7 @@ typedef struct {
     /* the setpoint and following error the tick used: the supervision's on
      * the INC/SSI (supervise.c tick_result), the tick's on the STP
      * (tick_stp.c, stepper.h) */
-    /* writers: supervise.c tick_stp.c stepper.h stp_rate.c servo_card.h stp_rate.h */
+    /* writers: tick_stp.c stp_rate.c servo_card.h stp_rate.h */
     struct {
         int32_t setpoint;
         int32_t ferr;
@@ -94,7 +94,7 @@ typedef struct {
         volatile uint8_t nx_ready;
         /* INC/SSI: the setpoints of an SP, one per tick, rounded: the row the
          * tick uses and the next one (the tick swaps them) */
-        /* writers: motion.c motion_profile.c tick_servo.c servo_motion.h */
+        /* writers: motion_profile.c tick_servo.c servo_motion.h */
         int32_t sp_rows[2][PROFILE_DIVIDER];
         int32_t *sp_now, *sp_next;
         int32_t sp_vel, sp_vel_next;    /* the rows' velocity, Q16 per SP */
@@ -125,7 +125,7 @@ typedef struct {
         /* STP: the body of the tick that runs the axis (STP_PATH_*), which
          * follows the mode and braking: stepper.h stp_path_set, called by
          * their writers (axis_set_mode; brake_now, brake_done, motion_hold) */
-        /* writers: stepper.h axis.c stp_variant.h */
+        /* writers: stepper.h stp_variant.h */
         uint8_t stp_path;
     };
     /* the mode's motion: the motion files' (motion*.c, main loop; stepper.c

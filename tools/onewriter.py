@@ -14,6 +14,8 @@ A C-aware scan of firmware/*.c and *.h (comments and strings left out):
   expression: `axes[..].f`, `axis_at[..]->f`, or `p->f` where p is declared
   `axis_t *p` in that file.  Code in a header counts to the header
   (tick.h's inline functions are tick.h's), as tools/callgraph.py does.
+  A file a part names that writes none of its fields fails (stale), so
+  the lines stay true as code moves.
   tools/onewriter.allow lists the other writes a part has on purpose:
   `FIELD FILE  # why`; an entry that matches no write fails (stale);
 * the status bits (status.def USTAT_BY / SSTAT_BY "sets" "clears"): a
@@ -51,8 +53,10 @@ def strip(text):
     return out
 
 
-def parts(card_h):
-    """{field: set of writer files} from axis_t in card.h, and errors."""
+def parts(card_h, lines_of=None):
+    """{field: set of writer files} from axis_t in card.h, and errors;
+    lines_of, when given, gets {field: card.h line of its writers: comment}
+    (the fields of one line are one part)."""
     text = open(card_h).read()
     m = re.search(r"typedef struct \{(.*?)\n\} axis_t;", text, re.S)
     if not m:
@@ -61,6 +65,7 @@ def parts(card_h):
     # the files of a `writers:` comment: its words that name a .c or .h
     marks = [(w.start(), re.findall(r"(?<![\w/])[\w/]+\.[ch]\b", w.group(1)))
              for w in re.finditer(r"writers:((?:(?!\*/).)*)\*/", body, re.S)]
+    mark_line = {pos: text.count("\n", 0, base + pos) + 1 for pos, _ in marks}
     code = strip(body)
     fields, bad = {}, []
     for d in re.finditer(r"([^;{}]*);", code):
@@ -72,11 +77,14 @@ def parts(card_h):
         # the first has the type in front of it: its last word is the name
         names = [re.findall(r"\w+", words[0])[-1]] + [re.findall(r"\w+", w)[-1] for w in words[1:]]
         ws = [w for pos, w in marks if pos < d.end()]
+        at = [mark_line[pos] for pos, _ in marks if pos < d.end()]
         line = text.count("\n", 0, base + d.end()) + 1
         for nm in names:
             if not ws:
                 bad.append("firmware/card.h:%d: %s has no writers: line before it" % (line, nm))
             fields[nm] = set("firmware/" + w for w in (ws[-1] if ws else []))
+            if lines_of is not None and at:
+                lines_of[nm] = at[-1]
     return fields, bad
 
 
@@ -216,9 +224,11 @@ def read_allow(path):
 
 def check(root, listing=False):
     """The lines of the undeclared writes (empty: the tree keeps the rule)."""
-    fields, bad = parts(os.path.join(root, "firmware", "card.h"))
+    part_line = {}
+    fields, bad = parts(os.path.join(root, "firmware", "card.h"), part_line)
     if fields is None:
         return bad
+    wrote = set()                   # (card.h line of the part, file)
     allow_path = os.path.join(root, "tools", "onewriter.allow")
     allow = read_allow(allow_path)
     used = set()
@@ -231,6 +241,7 @@ def check(root, listing=False):
             if listing:
                 print("%s:%d: writes %s" % (p, line, f))
             if p in fields[f]:
+                wrote.add((part_line.get(f), p))
                 continue
             ok = [a for a in allow if a[0] == f and a[1] == p]
             if ok:
@@ -248,6 +259,13 @@ def check(root, listing=False):
             for m in PARAM_WRITE.finditer(code):
                 bad.append("%s:%d: writes %s outside the parameter store (params.c)" %
                            (p, code.count("\n", 0, m.start()) + 1, next(g for g in m.groups() if g)))
+    # a writer a part names that writes none of its fields any more
+    for ln in sorted(set(part_line.values())):
+        names = sorted(set().union(*(fields[f] for f in part_line if part_line[f] == ln)))
+        for p in names:
+            if (ln, p) not in wrote:
+                bad.append("firmware/card.h:%d: %s is named a writer of the part but writes none of it (stale)"
+                           % (ln, p))
     for a in allow:
         if a not in used:
             bad.append("tools/onewriter.allow:%d: %s %s matches no write (stale)" % (a[2], a[0], a[1]))

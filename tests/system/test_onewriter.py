@@ -44,6 +44,7 @@ def tree(tmp_path, files):
     (tmp_path / "tools").mkdir()
     base = {"card.h": CARD_H, "status.h": STATUS_H, "status.def": STATUS_DEF, "a.c": A_C,
             "b.c": "void g(axis_t *y) { y->vel++; }\n",
+            "tick.h": "static inline void h(axis_t *z) { z->vel = 0; }\n",
             "params.c": "void params_reset(void) { par_a[0][0] = 0; }\n"}
     base.update(files)
     for name, text in base.items():
@@ -100,3 +101,11 @@ def test_a_parameter_written_outside_the_store_is_found(tmp_path):
 def test_a_tree_without_card_h_is_a_setup_error(tmp_path):
     r = subprocess.run(TOOL + ["--root", str(tmp_path)], capture_output=True, text=True, timeout=60)
     assert r.returncode == 2 and "no firmware/card.h" in r.stderr
+
+
+def test_a_writer_that_writes_none_of_its_part_is_stale(tmp_path):
+    """A file a part's writers: line names, which writes none of the part's
+    fields any more (the code moved), fails: the lines stay true."""
+    root = tree(tmp_path, {"tick.h": "static inline int h(const axis_t *z) { return z->vel; }\n"})
+    assert onewriter.check(root) == [
+        "firmware/card.h:7: " + F + "tick.h is named a writer of the part but writes none of it (stale)"]
