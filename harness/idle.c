@@ -3,9 +3,10 @@
  *
  * The firmware's idle main loop reads memory, writes the same bytes and
  * kicks the watchdog, pass after pass.  From the entry of fw_main_step (the
- * anchor), after a pass that read no device and took no interrupt, the CPU
- * is recorded for up to REC_PASSES passes: at every CK_EVERY-th instruction
- * and at the anchor a checkpoint (registers, cycle offset, bus counters),
+ * anchor), after a pass that read no device, took no interrupt and was no
+ * longer than the last window's passes and a half (a busy pass costs more to
+ * record than a skip after it gives back), the CPU is recorded for up to
+ * REC_PASSES passes: at every CK_EVERY-th instruction and at the anchor a checkpoint (registers, cycle offset, bus counters),
  * every byte of the SRAM and DPRAM read or written, and the writes to the
  * watchdog, the one I/O register a window may touch.  The window closes
  * when the CPU is back at the anchor with the registers it started with and
@@ -51,6 +52,10 @@ idle_stats_t idle_stats;
 #define MAX_WRITES 4096
 #define MAX_IO 64
 #define NREG 34
+/* A recorded instruction costs the host about three emulated ones: a window
+ * that skipped less than REC_COST times its own length did not pay. */
+#define REC_COST 3
+#define SHORT_PASS_FIRST 4096   /* cycles, until a window gives the idle pass' length */
 
 /* the registers an instruction leaves (PPC and IR are set by the next one) */
 typedef struct { uint32_t r[NREG]; } regs_t;
@@ -111,6 +116,13 @@ static uint64_t slice_at;       /* the cycle m68k_execute started at */
 static uint64_t last_reads = ~0ull, last_iacks = ~0ull;   /* at the last anchor */
 #define NOW() (slice_at + (uint64_t)m68k_cycles_run())
 static unsigned passes, level0, fails, backoff;
+/* The main loop's last pass, anchor to anchor, in cycles (0: not seen):
+ * only a pass no longer than short_pass starts a recording.  A busy pass
+ * (a command, the supervision, the profile generator) is long, and one
+ * recorded costs the host more than the skip that may follow it gives back:
+ * with the host sending back to back, pass after pass is busy. */
+static uint64_t anchor_at, last_pass;
+static uint64_t short_pass = SHORT_PASS_FIRST;
 static uint64_t contention0, iacks0;
 static int rec_dp;                /* the recording wrote the DPRAM */
 
@@ -288,14 +300,27 @@ static int finish(void)
             anch[n_anch++] = i;
     win.skipped = 0;
     win.valid = 1;
+    /* half as long again as this window's passes is still an idle pass */
+    short_pass = win.P / n_anch + win.P / n_anch / 2;
     return 1;
 }
 
 static int try_skip(unsigned pc);
 
+/* at every anchor the hook sees: the length of the pass that ends here */
+static void anchor_seen(void)
+{
+    uint64_t now = NOW();
+    last_pass = anchor_at && now > anchor_at ? now - anchor_at : 0;
+    anchor_at = now;
+}
+
+static int pass_was_short(void) { return last_pass && last_pass <= short_pass; }
+
 static void rec_instr(unsigned pc)
 {
     if (pc == anchor && n_ins > 0) {
+        anchor_seen();
         passes++;
         if (closed()) {
             rec_end();
@@ -312,7 +337,7 @@ static void rec_instr(unsigned pc)
             rec_end();
             idle_stats.failed++;
             note_failure();
-            if (backoff) {
+            if (backoff || !pass_was_short()) {
                 watch(0);
                 return;
             }
@@ -471,7 +496,8 @@ static void start_recording(unsigned pc)
     int quiet = bus_reads == last_reads && buswait_stats.iacks == last_iacks;
     last_reads = bus_reads;
     last_iacks = buswait_stats.iacks;
-    if (!quiet || !allowed())
+    anchor_seen();
+    if (!quiet || !pass_was_short() || !allowed())
         return;
     if (backoff) {
         backoff--;
@@ -500,7 +526,7 @@ static int try_skip(unsigned pc)
             /* a window that skipped less than it took to record counts as a
              * failure: with the host sending back to back a command changes
              * the queue it reads before it pays */
-            if (win.skipped < win.P)
+            if (win.skipped < REC_COST * win.P)
                 note_failure();
             else
                 fails = 0;
@@ -627,6 +653,8 @@ void idle_reset(void)
             anchor = a;
     }
     fails = backoff = 0;
+    anchor_at = last_pass = 0;
+    short_pass = SHORT_PASS_FIRST;
     idle_invalidate();
 }
 
