@@ -39,13 +39,18 @@ card_ssi := 1
 card_stp := 2
 
 # The card variant by file: the sources every card links, plus the servo
-# cards' (INC, SSI) or the stepper's own; fw_srcs_CARD is what a card links.
+# cards' (INC, SSI) or the stepper's own, plus each card's encoder interface
+# (FW_INC, FW_SSI; the STP's counter is the INC's, in FW_STP);
+# fw_srcs_CARD is what a card links.
 FW_ALL_SRCS := $(wildcard firmware/*.c)
 FW_SERVO := firmware/tick_servo.c firmware/servo_meas.c firmware/servo_motion.c
-FW_STP   := firmware/tick_stp.c firmware/stepper.c firmware/stp_rate.c firmware/stp_meas.c firmware/stp_motion.c
-FW_SRCS  := $(filter-out $(FW_SERVO) $(FW_STP),$(FW_ALL_SRCS))
-fw_srcs_inc := $(FW_SRCS) $(FW_SERVO)
-fw_srcs_ssi := $(FW_SRCS) $(FW_SERVO)
+FW_INC   := firmware/counter_meas.c
+FW_SSI   := firmware/ssi_meas.c
+FW_STP   := firmware/tick_stp.c firmware/stepper.c firmware/stp_rate.c firmware/stp_meas.c firmware/stp_motion.c \
+            firmware/counter_meas.c
+FW_SRCS  := $(filter-out $(FW_SERVO) $(FW_INC) $(FW_SSI) $(FW_STP),$(FW_ALL_SRCS))
+fw_srcs_inc := $(FW_SRCS) $(FW_SERVO) $(FW_INC)
+fw_srcs_ssi := $(FW_SRCS) $(FW_SERVO) $(FW_SSI)
 fw_srcs_stp := $(FW_SRCS) $(FW_STP)
 TGT_SRCS := hal/target/hal_target.c hal/target/runtime.c
 TGT_ASM  := hal/target/crt0.S hal/target/vectors.S

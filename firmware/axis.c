@@ -74,9 +74,7 @@ void axis_prepare(unsigned n)
     axis_t *x = &axes[n];
     int32_t et = PAR(n, ET);
     x->linear = PAR(n, SH) == 1;
-    /* the SSI tests here and below stay: INC and SSI link the same files */
-    x->mk = et > 2 ? MK_OTHER : MAC4_CARD == MAC4_CARD_SSI ? (et == 2 && x->linear ? MK_SSI_ABS : MK_SSI)
-                   : et <= 1 ? MK_COUNTER : MK_OTHER;
+    x->mk = et > 2 ? MK_OTHER : measure_kind_enc(et, x->linear);     /* the card's own encoder */
     x->cr = PAR(n, CR);
     x->lp = PAR(n, LP);
     x->ln = PAR(n, LN);
@@ -84,13 +82,7 @@ void axis_prepare(unsigned n)
     /* switch configuration (4.5): 0 off, 1 low active, 2 high active */
     static const uint16_t bits[4] = {AX_IN_IESP, AX_IN_IESN, AX_IN_RS, AX_IN_DF};
     int32_t cfg[4] = {PAR(n, PS), PAR(n, NS), PAR(n, RS), PAR(n, DF)};
-    if (MAC4_CARD == MAC4_CARD_SSI) {
-        /* the SSI receiver reads the encoder at every timer expiry (the
-         * sampling instant): the tick finds the value there, or nearly */
-        uint16_t sync = et <= 2 ? AX_CTRL_SSI_SYNC : 0;
-        x->ctrl = (uint16_t)((x->ctrl & ~AX_CTRL_SSI_SYNC) | sync);
-        hal_wr16(AX_REG(n, AX_CTRL), x->ctrl);
-    }
+    axis_prepare_enc(x, n, et);                  /* SSI: the receiver reads at the timer's expiry */
     x->sw_en = x->sw_inv = 0;
     for (unsigned i = 0; i < 4; i++) {
         if (cfg[i])

@@ -51,11 +51,7 @@ void card_reset(void)
         x->ustat = UB(ON_FLY);                    /* on-fly after switch-on (5.15) */
         axis_set_mode(n, M_DISABLE);
         motion_hold(n);
-        /* (an SSI test stays in common code: INC and SSI link the same files)
-         * MAC4-SSI: J1 (Gray or binary) is readable from basic init on:
-         * known before an INIT that comes ahead of the first tick reads the encoder */
-        if (MAC4_CARD == MAC4_CARD_SSI && (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_GRAY))
-            x->ustat |= UB(GRAY);
+        axis_reset_enc(x, n);                     /* SSI: J1's Gray code status from basic init on */
     }
     hal_wr16(SYS_LEDS, 0x1111);                   /* LED D on for every axis */
     card_ostat = 0;
@@ -74,10 +70,7 @@ void card_reset(void)
 void card_start(void)
 {
     hal_wr16(TMR_PERIOD, TICK_US);
-    uint16_t tmr = TMR_CTRL_RUN | TMR_CTRL_IE;
-    if (MAC4_CARD == MAC4_CARD_SSI)               /* (INC and SSI link the same files) */
-        tmr |= TMR_CTRL_SSI_WAIT;                 /* the tick comes when the SSI reads the expiry started are done */
-    hal_wr16(TMR_CTRL, tmr);
+    hal_wr16(TMR_CTRL, TMR_CTRL_RUN | TMR_CTRL_IE | ENC_TMR_CTRL);   /* SSI: the tick waits for the receiver */
     hal_wr16(UART_CTRL, UART_CTRL_RXIE);
     /* 7.1.2 m_rdy "command operational": the card takes commands for every
      * axis from here (display $5) until a reset; MR clears it (cmd.c) */

@@ -19,8 +19,8 @@ typedef struct {
      * axis.c (axis_set_mode, axis_error) and the commands (cmd*.c); the
      * supervision (supervise.c, motion_supervise.c) its switch and fault
      * bits, masked */
-    /* writers: axis.c card.c cmd.c cmd_general.c ext_comp.c ext_compare.c measure.c stp_motion.h
-     * motion_justify.c motion_profile.c motion_supervise.c stepper.c supervise.c
+    /* writers: axis.c card.c cmd.c cmd_general.c ext_comp.c ext_compare.c stp_motion.h
+     * motion_justify.c motion_profile.c motion_supervise.c stepper.c supervise.c ssi_card.h
      * (bit by bit: status.def USTAT_BY/SSTAT_BY) */
     struct {
         uint32_t ustat;     /* user status, manual 7.1.1 (RBS); bits 0-7 = mode */
@@ -37,10 +37,10 @@ typedef struct {
         uint8_t next_mode;  /* mode selected for the next E, or NO_MODE */
     };
     /* outputs: the shadow of AX_CTRL is written with every write of the
-     * register (axis.c, tick.h axis_output_at, the level 5 handler, the STP's
+     * register (axis.c, ssi_meas.c, tick.h axis_output_at, the level 5 handler, the STP's
      * stp_rate.c), masked or in an interrupt; `out` by the tick alone */
     struct {
-        /* writers: axis.c card.c supervise.c tick.h tick_stp.c stp_rate.c servo_card.h stp_rate.h */
+        /* writers: card.c supervise.c tick.h tick_stp.c stp_rate.c servo_card.h stp_rate.h ssi_meas.c */
         uint16_t ctrl;      /* shadow of AX_CTRL */
         /* writers: tick.h tick_servo.c tick_stp.c card.c */
         int16_t out;        /* DAC word (INC/SSI) or step rate (STP) */

@@ -10,6 +10,7 @@
 #include "card.h"
 #include "params.h"
 #include "measure.h"
+#include "card_variant.h"
 
 meas_cfg_t meas_cfg[MAC4_NAXES];
 static uint32_t eb_mask(int32_t eb) { return eb >= 32 ? 0xFFFFFFFFu : (((uint32_t)1 << eb) - 1u); }
@@ -48,33 +49,6 @@ int measure_ea_ok(uint32_t ea, int32_t eb)
     return eb <= 16 || (ea & (VME_WIN_SIZE - 1u)) <= VME_WIN_SIZE - 4u;
 }
 
-/* Returns 0 and the raw value, or -1 when the measurement failed.  The SSI
- * tests in this file stay in common code: INC and SSI link the same files,
- * the encoder interface is their one difference. */
-static int read_raw(unsigned n, uint32_t *raw)
-{
-    int32_t et = PAR(n, ET);
-    if (et <= 1 && MAC4_CARD != MAC4_CARD_SSI) {
-        uint32_t hi = hal_rd16(AX_REG(n, AX_CNT_HI));   /* latches LO */
-        *raw = (hi << 16) | hal_rd16(AX_REG(n, AX_CNT_LO));
-        return 0;
-    }
-    if (et <= 2) {                                      /* SSI at P2 */
-        for (unsigned i = 0; (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY) && i < 200; i++)
-            ;
-        uint32_t hi = hal_rd16(AX_REG(n, AX_SSI_HI));
-        uint32_t v = (hi << 16) | hal_rd16(AX_REG(n, AX_SSI_LO));
-        v >>= PAR(n, SC);                             /* right-justify (4.4.2.2) */
-        v &= eb_mask(PAR(n, EB));
-        if (axes[n].ustat & UB(GRAY))
-            v = gray_to_binary(v);
-        *raw = v;
-        return 0;
-    }
-    return measure_ext_read(&axes[n], n, &meas_cfg[n], raw);
-}
-
-
 /* 6.3.8: encoder_f and logo_f, 163 for the next command, disabled without a
  * ramp.  Once: while the axis stays disabled after it, a measurement that
  * keeps failing raises nothing more, so C, DEINIT and new parameters get
@@ -94,31 +68,15 @@ void measure_init(unsigned n)
     axis_t *x = axis_at[n];
     meas_cfg_t *c = &meas_cfg[n];
     int32_t et = PAR(n, ET), eb = PAR(n, EB), ec = PAR(n, EC);
-    if (MAC4_CARD == MAC4_CARD_SSI) {
-        /* the code of the first reading is J1's now (the status follows at every tick) */
-        if (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_GRAY)
-            x->ustat |= UB(GRAY);
-        else
-            x->ustat &= ~UB(GRAY);
-    }
-    /* Table 4.3 "def." (docs/interpretations.md): the counter of INC/STP is
-     * 24 bits whatever was written; on the SSI board the receiver delivers
-     * 26 - <sc> bits, so <eb> is at most that, and a written <ec> limits the
-     * range (6.3.8).  Only the values in force change: UR.. reads back what
-     * the host wrote, so a later INIT derives afresh. */
-    if (et <= 2) {
-        uint32_t reg = (MAC4_CARD == MAC4_CARD_SSI) ? AX_REG(n, AX_SSI_HI) : AX_REG(n, AX_CNT_HI);
-        params_force(n, P_EA, (int32_t)(reg & 0xFFFFFFu), PS_IN_FORCE);
-        if (MAC4_CARD == MAC4_CARD_SSI) {
-            int32_t bits = (int32_t)SSI_CLOCKS - PAR(n, SC);
-            if (eb > bits)
-                eb = bits;
-        } else {
-            eb = 24;
-            ec = 0;
-        }
+    c->path = EXT_NONE;                                 /* the tick's own path, or none */
+    /* Table 4.3 "def." (docs/interpretations.md): the card's own encoder
+     * (<et> 0-2) limits <eb> and <ec> to what it delivers (card_variant.h:
+     * counter_meas.c, ssi_meas.c); a written <ec> limits the range (6.3.8).
+     * Only the values in force change: UR.. reads back what the host wrote,
+     * so a later INIT derives afresh. */
+    measure_init_enc(n, c, et, &eb, &ec);
+    if (et <= 2)
         params_force(n, P_EB, eb, PS_IN_FORCE);
-    }
     /* the range in force: <ec>, or 2^<eb> for 0 or anything larger */
     uint32_t lim = eb_mask(eb);
     if (ec > 0 && (uint32_t)ec - 1u < lim)
@@ -129,8 +87,7 @@ void measure_init(unsigned n)
     params_force(n, P_EC, lim < (uint32_t)INT32_MAX ? (int32_t)(lim + 1u) : 0, PS_IN_FORCE);   /* 0: 2^<eb> */
     /* where an external position is read; cmd.c refused INIT otherwise */
     uint32_t ea = (uint32_t)PAR(n, EA);
-    c->path = EXT_NONE;                                 /* read_raw() fails: encoder error */
-    if (et >= 3 && measure_ea_ok(ea, eb)) {
+    if (et >= 3 && measure_ea_ok(ea, eb)) {             /* else EXT_NONE: an encoder error */
         if (ea < DPRAM_SIZE) {
             c->path = EXT_DPRAM;
             c->addr = ea;
@@ -143,18 +100,12 @@ void measure_init(unsigned n)
     c->abs = et == 2 || et == 4;
     c->mask = eb_mask(eb);
     c->sign = eb < 32 ? (uint32_t)1 << (eb - 1) : 0;
-    if (MAC4_CARD == MAC4_CARD_SSI && et <= 2) {
-        c->path = EXT_SSI;
-        c->sc = (uint8_t)PAR(n, SC);
-    }
     c->failed = 0;
     /* A repeated INIT restarts a relative measurement at 0 (4.9). */
     x->meas = 0;
     x->vel = 0;
-    if (MAC4_CARD == MAC4_CARD_SSI && et <= 2)
-        hal_wr16(AX_REG(n, AX_SSI_START), 1);
     uint32_t raw;
-    if (read_raw(n, &raw) == 0) {
+    if ((et <= 2 ? measure_read_enc(n, c, &raw) : measure_ext_read(x, n, c, &raw)) == 0) {
         raw &= eb_mask(eb);
         x->counter = x->raw = raw;
         if (et == 2 || et == 4)

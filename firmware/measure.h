@@ -14,7 +14,7 @@ int measure_ea_ok(uint32_t ea, int32_t eb);
 
 /* ---- what INIT prepares for the tick (measure_init) ------------------------
  * Where an external position is read, validated once at INIT so that
- * read_raw() never touches any other address (whatever <ea> holds later),
+ * measure_ext_read() never touches any other address (whatever <ea> holds later),
  * and the counter range in force, so that the tick needs no division. */
 enum { EXT_NONE, EXT_DPRAM, EXT_VME16, EXT_VME32, EXT_SSI };
 typedef struct {
@@ -157,7 +157,7 @@ FW_INLINE int32_t measure_delta(const axis_t *x, const meas_cfg_t *c,
 }
 
 /* SSI at the connector, everything prepared at INIT (the tick's path; INIT
- * itself reads with measure.c's read_raw): the receiver read the encoder at the timer's expiry
+ * itself reads with ssi_meas.c's measure_read_enc): the receiver read the encoder at the timer's expiry
  * (AX_CTRL_SSI_SYNC) and the tick came when it was done (TMR_CTRL_SSI_WAIT;
  * the poll is the safety net).  0 and the motion since the last reading, or
  * -1 after an encoder error. */

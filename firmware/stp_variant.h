@@ -43,6 +43,12 @@ FW_INLINE void card_isr_axis(uint16_t pending)
  * count too (stp_t, which the set-up rewrites): the measurement masked. */
 #define CARD_INIT_MASKED 1
 
+/* The encoder interface, the internal counter (counter_meas.c): no J1, no
+ * timer wait (card_variant.h). */
+#define ENC_TMR_CTRL 0
+FW_INLINE void axis_inputs_enc(axis_t *x, uint16_t in) { (void)x; (void)in; }
+FW_INLINE void axis_reset_enc(axis_t *x, unsigned n) { (void)x; (void)n; }
+
 /* 4.8.3: <lv> not above the start/stop frequency. */
 FW_INLINE int card_lv_ok(unsigned a, int32_t v) { return v <= PAR_W(a, SSF); }
 

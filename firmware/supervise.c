@@ -64,13 +64,7 @@ FW_INLINE void axis_inputs(unsigned n)
         return;
     x->in = in;
     x->in_eval = 0;
-    /* J1 is readable from basic init on (an SSI test: INC and SSI link the same files) */
-    if (MAC4_CARD == MAC4_CARD_SSI) {
-        if (in & AX_IN_GRAY)
-            x->ustat |= UB(GRAY);
-        else
-            x->ustat &= ~UB(GRAY);
-    }
+    axis_inputs_enc(x, in);                       /* SSI: J1's Gray code status, from basic init on */
     if (!axis_initialised(n))
         return;                                   /* switches count after INIT (4.9) */
     uint16_t active = (uint16_t)((in ^ x->sw_inv) & x->sw_en);

@@ -74,9 +74,9 @@ MUTATIONS = [
      "equivalent: at rem == ssf (u > ssf) the mutant asks prof_must_brake32(u, dec, 0), which is 1 as well"),
     ("stp-turbo", "firmware/stepper.h", "        hz *= 10;", "        hz *= 9;", STP, None),
     # measurement paths (4.4)
-    ("measure-ssi-shift", "firmware/measure.c", "v >>= PAR(n, SC);", "v >>= PAR(n, SC) + 1;", ("ssi",), None),
-    ("measure-gray", "firmware/measure.c", "        if (axes[n].ustat & UB(GRAY))\n            v = gray_to_binary(v);",
-     "        if (axes[n].ustat & UB(GRAY))\n            v = gray_to_binary(v) ^ 1u;", ("ssi",), None),
+    ("measure-ssi-shift", "firmware/ssi_meas.c", ">> c->sc) & c->mask;", ">> (c->sc + 1)) & c->mask;", ("ssi",), None),
+    ("measure-gray", "firmware/ssi_meas.c", "    if (axes[n].ustat & UB(GRAY))\n        v = gray_to_binary(v);",
+     "    if (axes[n].ustat & UB(GRAY))\n        v = gray_to_binary(v) ^ 1u;", ("ssi",), None),
     ("measure-eb-mask", "firmware/measure.c", "(((uint32_t)1 << eb) - 1u)", "(((uint32_t)1 << eb) - 2u)", ALL, None),
     # protective reactions (4.8, 6.3)
     ("protect-ferr-compare", "firmware/motion_supervise.c", "if (x->ferr > mf || x->ferr < -mf) {",

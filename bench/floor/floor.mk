@@ -23,10 +23,13 @@ $(FLOOR_DIR)/%.bin: $(FLOOR_DIR)/%.o
 
 # the runner per card: the emulator's 68000 and bus model, and the
 # firmware's C for the host that the routines are checked against
-FLOOR_REF_inc := bench/floor/ref_servo.c firmware/servo.c firmware/measure.c firmware/servo_meas.c firmware/params.c
-FLOOR_REF_ssi := $(FLOOR_REF_inc)
+# (measure.c with the card's encoder interface, FW_INC/FW_SSI, counter_meas.c)
+FLOOR_REF_servo := bench/floor/ref_servo.c firmware/servo.c firmware/measure.c firmware/servo_meas.c firmware/params.c
+FLOOR_REF_inc := $(FLOOR_REF_servo) $(FW_INC)
+FLOOR_REF_ssi := $(FLOOR_REF_servo) $(FW_SSI)
 FLOOR_REF_stp := bench/floor/ref_stp.c firmware/tick_stp.c firmware/stepper.c firmware/stp_rate.c firmware/stp_meas.c \
-                 firmware/stp_motion.c firmware/axis.c firmware/motion.c firmware/servo.c firmware/stp_profile.c firmware/profile.c firmware/measure.c firmware/params.c
+                 firmware/stp_motion.c firmware/axis.c firmware/motion.c firmware/servo.c firmware/stp_profile.c firmware/profile.c firmware/measure.c firmware/params.c \
+                 firmware/counter_meas.c
 FLOOR_CFLAGS := $(HOSTCFLAGS) -DHAL_NATIVE -Ibench/floor -Ihal -Ifirmware -Iharness -I$(MUS) -DMUSASHI_CNF='"musashi_cnf.h"'
 define FLOOR_RUN_RULE
 $(FLOOR_DIR)/floorrun-$(1): bench/floor/floorrun.c bench/floor/floorrun.h $$(FLOOR_REF_$(1)) harness/buswait.c \
