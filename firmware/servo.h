@@ -68,9 +68,10 @@ int16_t servo_step_full(servo_state_t *s, const servo_gains_t *g, int32_t e);
 FW_INLINE int16_t servo_e_limited(const servo_gains_t *g, int32_t e32)
 {
     int32_t lim = g->e_lim;
+    int16_t e = (int16_t)e32;       /* first: the common case falls through */
     if ((uint32_t)e32 + (uint32_t)lim > 2u * (uint32_t)lim)
-        return (int16_t)(e32 < 0 ? -lim : lim);
-    return (int16_t)e32;
+        e = (int16_t)(e32 < 0 ? -lim : lim);
+    return e;
 }
 
 /* The general filter, inline for the tick (servo_step).  In Q8:
