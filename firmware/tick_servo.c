@@ -37,7 +37,7 @@ FW_INLINE void tick_measure(axis_t *x, unsigned n)
         if (measure_ssi(x, n, &d, 0) == 0)
             measure_apply(x, d);
     } else if (mk != MK_NONE) {
-        measure_ext(x, &meas_cfg[n], n);          /* <et> 3/4 (measure.h) */
+        measure_ext_axis(n);                      /* <et> 3/4 (servo_meas.c), out of line, n a constant */
     }
 }
 
