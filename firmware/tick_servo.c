@@ -48,10 +48,8 @@ FW_INLINE void tick_measure(axis_t *x, unsigned n)
  * of the general tick (general: card_servo_general, tick()).  ph4 is the
  * tick's phase in the SP times 4 (the row offset in bytes).  /EN follows
  * the mode in axis_set_mode(); here only the DAC. */
-FW_INLINE void tick_axis(unsigned n, unsigned ph4, unsigned path, int general)
+FW_INLINE void tick_axis(axis_t *x, unsigned n, unsigned ph4, unsigned path, int general)
 {
-    axis_t *x = &axes[n];
-    PIN_PTR(x);
     int16_t u = 0;
     if (path == SERVO_PATH_IDLE) {
         /* disabled: 0 V; the setpoint and following error: card_supervise (tick_result) */
@@ -88,13 +86,13 @@ FW_INLINE void tick_axis_at(unsigned n, unsigned ph4, int general)
     tick_measure(x, n);
     uint8_t path = x->servo_path;
     if (path == SERVO_PATH_RUN)
-        tick_axis(n, ph4, SERVO_PATH_RUN, general);
+        tick_axis(x, n, ph4, SERVO_PATH_RUN, general);
     else if (general && path == SERVO_PATH_RUN_FULL)
-        tick_axis(n, ph4, SERVO_PATH_RUN_FULL, general);
+        tick_axis(x, n, ph4, SERVO_PATH_RUN_FULL, general);
     else if (path == SERVO_PATH_BRAKE)
-        tick_axis(n, ph4, SERVO_PATH_BRAKE, general);
+        tick_axis(x, n, ph4, SERVO_PATH_BRAKE, general);
     else
-        tick_axis(n, ph4, SERVO_PATH_IDLE, general);
+        tick_axis(x, n, ph4, SERVO_PATH_IDLE, general);
 }
 
 /* The SP boundary for INC/SSI (the STP's is stp_take_segment), inlined
