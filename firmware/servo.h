@@ -132,12 +132,21 @@ FW_INLINE int16_t servo_step_k(servo_state_t *s, const servo_gains_t *g,
                                                                   int32_t e32)
 {
     int16_t e = servo_e_limited(g, e32);
-    int32_t u1 = muls16(g->ga, e) * 64;
-    /* the limits below with one unsigned compare on the common path */
+    /* <ga> the MULS.W's source: its time follows the source's bits, and a
+     * gain has fewer bit changes than a following error */
+    int32_t u1 = muls16(e, g->ga) * 64;
+    int32_t t = u1 + s->u2 + 128;
+    s->e_prev = e;
+    /* One unsigned compare on the common path: an output within the DAC
+     * range means |u1| < 2^21 (u2 is kept within it), so u1's bound below
+     * cannot apply; else both bounds as they are. */
+    if ((uint32_t)(t - SERVO_OUT_MIN * 256) <= (uint32_t)(SERVO_OUT_MAX - SERVO_OUT_MIN) * 256 + 255) {
+        s->u1 = u1;
+        return (int16_t)(t >> 8);
+    }
     if ((uint32_t)(u1 + SERVO_U1_MAX) > 2u * SERVO_U1_MAX)
         u1 = u1 < 0 ? -SERVO_U1_MAX : SERVO_U1_MAX;
     s->u1 = u1;
-    s->e_prev = e;
     int32_t u = (u1 + s->u2 + 128) >> 8;        /* u2 is kept within the DAC range */
     if ((uint32_t)(u - SERVO_OUT_MIN) > (uint32_t)(SERVO_OUT_MAX - SERVO_OUT_MIN))
         u = u < 0 ? SERVO_OUT_MIN : SERVO_OUT_MAX;
