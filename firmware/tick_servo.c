@@ -20,6 +20,19 @@
  * that looks at the result - switches, protective reactions, stop bits,
  * status, the DPRAM data - is card_supervise() in the main loop, which
  * runs before anything else there once per tick. */
+/* The external measurement of axis n, a constant (servo_meas.c) */
+FW_INLINE void measure_ext_axis(unsigned n)
+{
+    if (n == 0)
+        measure_ext_0();
+    else if (n == 1)
+        measure_ext_1();
+    else if (n == 2)
+        measure_ext_2();
+    else
+        measure_ext_3();
+}
+
 /* The measurement of one axis of the INC/SSI tick, the card's own encoder
  * first: one test on the common path.  Inlined four times with a constant
  * n, so the registers are absolute addresses and the axis one address
