@@ -30,8 +30,8 @@ void axis_set_gains(unsigned n, const servo_gains_t *g)
 
 void axis_set_mode(unsigned n, uint8_t mode)
 {
-    axis_t *x = &axes[n];
-    PIN_PTR(x);                                   /* one multiply by sizeof(axis_t), not one per use */
+    axis_t *x = axis_at[n];                       /* the table, not a multiply by sizeof(axis_t) */
+    PIN_PTR(x);
     x->mode = mode;
     x->ustat = (x->ustat & ~US_MODE_MASK) | mode;
     if (mode == M_DISABLE) {
@@ -47,9 +47,10 @@ void axis_disable(unsigned n)
 {
     axis_set_mode(n, M_DISABLE);
     axis_output(n, 0);           /* /EN open, 0 V or no pulses now, not at the next tick */
-    axes[n].stop_then = STOP_NONE;
-    axes[n].stop_settle = 0;
-    axes[n].next_mode = NO_MODE;
+    axis_t *x = axis_at[n];
+    x->stop_then = STOP_NONE;
+    x->stop_settle = 0;
+    x->next_mode = NO_MODE;
 }
 
 void axis_error(unsigned n, uint32_t ubit, uint16_t code)

@@ -127,6 +127,12 @@ typedef struct {
          * their writers (axis_set_mode; brake_now, brake_done, motion_hold) */
         /* writers: stepper.h stp_variant.h */
         uint8_t stp_path;
+        /* INC/SSI: the same (SERVO_PATH_*), which also follows the gains (K
+         * only or the general filter): servo_card.h servo_path_set, called by
+         * the writers of the mode, the brake and the gains (axis_set_mode;
+         * brake_now, brake_done, motion_hold; motion_start_card) */
+        /* writers: servo_card.h */
+        uint8_t servo_path;
     };
     /* the mode's motion: the motion files' (motion*.c, main loop; stepper.c
      * the STP's creep phase), masked where the tick reads them */

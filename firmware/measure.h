@@ -39,6 +39,11 @@ void measure_encoder_error(unsigned n);   /* 6.3.8, once (measure.c) */
  * common paths keep their registers; the pointers are the tick's constants.
  * The STP turns the reading into steps (4.4.2.3). */
 void measure_ext(axis_t *x, meas_cfg_t *c, unsigned n);
+/* INC/SSI: the same for axis 0 .. 3, the tick's (tick_servo.c measure_ext_axis) */
+void measure_ext_0(void);
+void measure_ext_1(void);
+void measure_ext_2(void);
+void measure_ext_3(void);
 /* The end of INIT's set-up (measure_init), before the tick's copies: the
  * STP's ratio, tolerance and BR check; nothing on INC/SSI. */
 void measure_init_card(unsigned n);

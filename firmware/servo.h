@@ -68,9 +68,10 @@ int16_t servo_step_full(servo_state_t *s, const servo_gains_t *g, int32_t e);
 FW_INLINE int16_t servo_e_limited(const servo_gains_t *g, int32_t e32)
 {
     int32_t lim = g->e_lim;
+    int16_t e = (int16_t)e32;       /* first: the common case falls through */
     if ((uint32_t)e32 + (uint32_t)lim > 2u * (uint32_t)lim)
-        return (int16_t)(e32 < 0 ? -lim : lim);
-    return (int16_t)e32;
+        e = (int16_t)(e32 < 0 ? -lim : lim);
+    return e;
 }
 
 /* The general filter, inline for the tick (servo_step).  In Q8:
@@ -89,7 +90,7 @@ FW_INLINE int16_t servo_filter(servo_state_t *s, const servo_gains_t *g,
 {
     int16_t e = servo_e_limited(g, e32);
     int16_t ep = s->e_prev;
-    int32_t u1 = muls16(g->ga, e) * 64;
+    int32_t u1 = muls16(e, g->ga) * 64;
     if (g->ze)
         u1 -= muls16(g->gzh, ep) * 64 + (muls16(ep, g->gzl) >> 2);
     if (g->po) {
@@ -97,11 +98,6 @@ FW_INLINE int16_t servo_filter(servo_state_t *s, const servo_gains_t *g,
         IN_REG(a);
         u1 -= muls16((int16_t)(a >> 8), g->po) + (muls16((int16_t)(a & 0xFF), g->po) >> 8);
     }
-    /* bound the lag state to 2^15 LSB (Q8: 2^23), 16 times full scale: the
-     * DAC is saturated long before, and the bound keeps po u1 in MULS.W */
-    if ((uint32_t)u1 + (uint32_t)SERVO_U1_MAX > 2u * SERVO_U1_MAX)
-        u1 = u1 < 0 ? -SERVO_U1_MAX : SERVO_U1_MAX;
-    s->u1 = u1;
     int32_t u2 = s->u2;
     if (g->ki) {
         int32_t r = s->u2_res + muls16(g->ki, ep);
@@ -114,6 +110,19 @@ FW_INLINE int16_t servo_filter(servo_state_t *s, const servo_gains_t *g,
         u2 = g->u2_lo;
     s->u2 = u2;
     s->e_prev = e;
+    /* An output within its range (u2_lo/u2_hi: the range in Q8) means
+     * |u1| < 2^21, so u1's bound below cannot apply: one compare on the
+     * common path, both bounds as they are beyond it. */
+    int32_t t = u1 + u2 + 128;
+    if ((uint32_t)(t - g->u2_lo) <= (uint32_t)(g->u2_hi - g->u2_lo) + 255u) {
+        s->u1 = u1;
+        return (int16_t)(t >> 8);
+    }
+    /* bound the lag state to 2^15 LSB (Q8: 2^23), 16 times full scale: the
+     * DAC is saturated long before, and the bound keeps po u1 in MULS.W */
+    if ((uint32_t)u1 + (uint32_t)SERVO_U1_MAX > 2u * SERVO_U1_MAX)
+        u1 = u1 < 0 ? -SERVO_U1_MAX : SERVO_U1_MAX;
+    s->u1 = u1;
     int32_t u = (u1 + u2 + 128) >> 8;                /* to DAC LSB, rounded */
     if (u > g->out_hi)
         u = g->out_hi;
@@ -131,12 +140,21 @@ FW_INLINE int16_t servo_step_k(servo_state_t *s, const servo_gains_t *g,
                                                                   int32_t e32)
 {
     int16_t e = servo_e_limited(g, e32);
-    int32_t u1 = muls16(g->ga, e) * 64;
-    /* the limits below with one unsigned compare on the common path */
+    /* <ga> the MULS.W's source: its time follows the source's bits, and a
+     * gain has fewer bit changes than a following error */
+    int32_t u1 = muls16(e, g->ga) * 64;
+    int32_t t = u1 + s->u2 + 128;
+    s->e_prev = e;
+    /* One unsigned compare on the common path: an output within the DAC
+     * range means |u1| < 2^21 (u2 is kept within it), so u1's bound below
+     * cannot apply; else both bounds as they are. */
+    if ((uint32_t)(t - SERVO_OUT_MIN * 256) <= (uint32_t)(SERVO_OUT_MAX - SERVO_OUT_MIN) * 256 + 255) {
+        s->u1 = u1;
+        return (int16_t)(t >> 8);
+    }
     if ((uint32_t)(u1 + SERVO_U1_MAX) > 2u * SERVO_U1_MAX)
         u1 = u1 < 0 ? -SERVO_U1_MAX : SERVO_U1_MAX;
     s->u1 = u1;
-    s->e_prev = e;
     int32_t u = (u1 + s->u2 + 128) >> 8;        /* u2 is kept within the DAC range */
     if ((uint32_t)(u - SERVO_OUT_MIN) > (uint32_t)(SERVO_OUT_MAX - SERVO_OUT_MIN))
         u = u < 0 ? SERVO_OUT_MIN : SERVO_OUT_MAX;

@@ -13,12 +13,36 @@
 /* the controller period (7.4), the board's (hal/mac4_map.h) */
 #define CARD_TICK_US SERVO_PERIOD_US_SERVO
 
+/* The tick's path of an axis (axis_t.servo_path): which instantiation of
+ * the one axis body (tick_servo.c tick_axis) runs it.  What decides it
+ * changes only in the main loop, masked - the mode (axis_set_mode), the
+ * tick's own brake (motion.c brake_now, brake_done, motion_hold) and the
+ * gains (motion_start_card, axis_set_gains' one caller) - and each of those
+ * calls servo_path_set, so the tick tests one byte instead of the mode
+ * twice, the brake and the gains.  0 is IDLE: a zeroed axis is disabled. */
+enum {
+    SERVO_PATH_IDLE,        /* disabled (0 V) or test mode (<da>): no setpoint, no filter */
+    SERVO_PATH_RUN,         /* a mode with a profile, the setpoint from the SP's row, K only */
+    SERVO_PATH_RUN_FULL,    /* the same with the general filter (servo_gains_t.full) */
+    SERVO_PATH_BRAKE        /* braked by the tick itself (x->braking), either filter */
+};
+FW_INLINE uint8_t servo_path_of(const axis_t *x)
+{
+    if (x->mode == M_DISABLE || x->mode == M_TEST)
+        return SERVO_PATH_IDLE;
+    if (x->braking)
+        return SERVO_PATH_BRAKE;
+    return x->gains.full ? SERVO_PATH_RUN_FULL : SERVO_PATH_RUN;
+}
+FW_INLINE void servo_path_set(axis_t *x) { x->servo_path = servo_path_of(x); }
+
 /* axis_set_mode: /EN follows the mode at once (the servo tick writes only
- * the DAC). */
+ * the DAC), and the tick's body for the axis. */
 FW_INLINE void axis_mode_card(axis_t *x, unsigned n, uint8_t mode)
 {
     x->ctrl = (uint16_t)((x->ctrl & ~AX_CTRL_EN) | (mode != M_DISABLE ? AX_CTRL_EN : 0));
     hal_wr16(AX_REG(n, AX_CTRL), x->ctrl);
+    servo_path_set(x);
 }
 /* The following error's tolerance beyond <mf> (4.8.1): none. */
 FW_INLINE int32_t axis_mf_tol(unsigned n) { (void)n; return 0; }

@@ -10,7 +10,7 @@
 #include "cmd_table.h"
 
 
-void measure_ext(axis_t *x, meas_cfg_t *c, unsigned n)
+FW_INLINE void measure_ext_body(axis_t *x, meas_cfg_t *c, unsigned n)
 {
     uint32_t raw;
     if (measure_ext_checked(x, c, n, &raw))
@@ -20,6 +20,25 @@ void measure_ext(axis_t *x, meas_cfg_t *c, unsigned n)
     x->counter = raw;
     measure_apply(x, d);
 }
+
+void measure_ext(axis_t *x, meas_cfg_t *c, unsigned n) { measure_ext_body(x, c, n); }
+
+/* The tick's (tick_servo.c measure_ext_axis): the same body once per axis
+ * with a constant n, so that the call passes nothing; the axis and its
+ * configuration each in an address register (shorter than absolute
+ * addresses), the registers absolute. */
+FW_INLINE void measure_ext_at(unsigned n)
+{
+    axis_t *x = &axes[n];
+    meas_cfg_t *c = &meas_cfg[n];
+    PIN_PTR(x);
+    PIN_PTR(c);
+    measure_ext_body(x, c, n);
+}
+void measure_ext_0(void) { measure_ext_at(0); }
+void measure_ext_1(void) { measure_ext_at(1); }
+void measure_ext_2(void) { measure_ext_at(2); }
+void measure_ext_3(void) { measure_ext_at(3); }
 
 void measure_init_card(unsigned n)
 {

@@ -9,6 +9,7 @@
 #include "card.h"
 #include "params.h"
 #include "profile.h"
+#include "servo_card.h"
 
 #define CARD_SP_ROWS 1          /* the profile hands the tick setpoint rows */
 #define CARD_SP_MS 10u          /* the sampling period, ms (<trt>, 5.6) */
@@ -23,8 +24,8 @@ FW_INLINE int ramp(prof_t *p, int64_t vt, int64_t acc, int64_t dec)
     return prof_ramp(p, vt, acc, dec);
 }
 
-/* The tick's body for the axis: one body on the servo cards. */
-FW_INLINE void motion_path_set(axis_t *x) { (void)x; }
+/* The tick's body for the axis (servo_card.h SERVO_PATH_*). */
+FW_INLINE void motion_path_set(axis_t *x) { servo_path_set(x); }
 
 /* motion_hold: the tick's setpoint rows hold the position. */
 FW_INLINE void motion_hold_card(axis_t *x)
@@ -58,6 +59,7 @@ FW_INLINE void motion_start_card(unsigned n, uint8_t mode, const motion_plan_t *
 {
     (void)mode;
     axis_set_gains(n, &p->gains);
+    servo_path_set(axis_at[n]);                  /* K only or the general filter */
 }
 
 /* ---- the profile generator, per SP (motion_profile.c) ---- */

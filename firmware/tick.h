@@ -38,7 +38,9 @@ FW_INLINE void brake_step(axis_t *x, int32_t v)
  * step). */
 FW_INLINE void axis_output_at(unsigned n, int32_t out)
 {
-    axis_t *x = &axes[n];
+    /* a constant n (the ticks): an absolute address; else (axis_disable)
+     * the table, not a multiply by sizeof(axis_t) */
+    axis_t *x = __builtin_constant_p(n) ? &axes[n] : axis_at[n];
     PIN_PTR(x);
     uint16_t ctrl = (uint16_t)(x->ctrl & ~AX_CTRL_EN);
     if (x->mode != M_DISABLE)

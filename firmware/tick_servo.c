@@ -13,22 +13,33 @@
 #include "params.h"
 #include "measure.h"
 #include "tick.h"
+#include "servo_card.h"
 
 /* The tick does only what must happen at the sampling instant (7.4):
  * measure, interpolate the setpoint, filter, drive the outputs.  Everything
  * that looks at the result - switches, protective reactions, stop bits,
  * status, the DPRAM data - is card_supervise() in the main loop, which
  * runs before anything else there once per tick. */
-/* One axis of the INC/SSI tick.  Inlined four times with a constant n, so
- * the registers are absolute addresses and the axis one address register;
- * ph4 is the tick's phase in the SP times 4 (the row offset in bytes).
- * /EN follows the mode in axis_set_mode(); here only the DAC. */
-FW_INLINE void tick_axis(unsigned n, unsigned ph4, int general)
+/* The external measurement of axis n, a constant (servo_meas.c) */
+FW_INLINE void measure_ext_axis(unsigned n)
 {
-    axis_t *x = &axes[n];
-    PIN_PTR(x);
+    if (n == 0)
+        measure_ext_0();
+    else if (n == 1)
+        measure_ext_1();
+    else if (n == 2)
+        measure_ext_2();
+    else
+        measure_ext_3();
+}
+
+/* The measurement of one axis of the INC/SSI tick, the card's own encoder
+ * first: one test on the common path.  Inlined four times with a constant
+ * n, so the registers are absolute addresses and the axis one address
+ * register. */
+FW_INLINE void tick_measure(axis_t *x, unsigned n)
+{
     uint8_t mk = x->mk_tick;                      /* MK_NONE before INIT (4.9) */
-    /* the card's own encoder first: one test on the common path */
     int32_t d;
     if (MAC4_CARD == MAC4_CARD_INC && mk == MK_COUNTER) {
         measure_apply(x, measure_counter(x, n));
@@ -39,24 +50,34 @@ FW_INLINE void tick_axis(unsigned n, unsigned ph4, int general)
         if (measure_ssi(x, n, &d, 0) == 0)
             measure_apply(x, d);
     } else if (mk != MK_NONE) {
-        measure_ext(x, &meas_cfg[n], n);          /* <et> 3/4 (measure.h) */
+        measure_ext_axis(n);                      /* <et> 3/4 (servo_meas.c), out of line, n a constant */
     }
+}
+
+/* One axis of the INC/SSI tick after its measurement: the setpoint, the
+ * filter, the DAC.  One body, instantiated with a constant path
+ * (SERVO_PATH_*, the axis' servo_path, servo_card.h) so that neither the
+ * mode, the brake nor the gains are tested in it but in the brake's path
+ * of the general tick (general: card_servo_general, tick()).  ph4 is the
+ * tick's phase in the SP times 4 (the row offset in bytes).  /EN follows
+ * the mode in axis_set_mode(); here only the DAC. */
+FW_INLINE void tick_axis(axis_t *x, unsigned n, unsigned ph4, unsigned path, int general)
+{
     int16_t u = 0;
-    uint8_t mode = x->mode;
-    if (mode == M_DISABLE) {
-        /* setpoint and following error: card_supervise (tick_result) */
-    } else if (mode == M_TEST) {
-        u = (int16_t)PAR(n, DA);                  /* 5.13: straight to the DAC */
+    if (path == SERVO_PATH_IDLE) {
+        /* disabled: 0 V; the setpoint and following error: card_supervise (tick_result) */
+        if (x->mode == M_TEST)
+            u = (int16_t)PAR(n, DA);              /* 5.13: straight to the DAC */
     } else {
         int32_t sp;
-        if (!x->braking) {
-            sp = *(const int32_t *)(const void *)((const uint8_t *)x->sp_now + ph4);
-        } else {                                  /* a stop that cannot wait for the next SP */
+        if (path == SERVO_PATH_BRAKE) {           /* a stop that cannot wait for the next SP */
             brake_step(x, brake_slower(x));
             sp = brake_setpoint(x);
+        } else {
+            sp = *(const int32_t *)(const void *)((const uint8_t *)x->sp_now + ph4);
         }
         int32_t e = pos_sub(sp, x->meas);
-        if (general && x->gains.full)             /* card_servo_general: K-only gains without it */
+        if (path == SERVO_PATH_RUN_FULL || (path == SERVO_PATH_BRAKE && general && x->gains.full))
             u = servo_filter(&x->servo, &x->gains, e);
         else
             u = servo_step_k(&x->servo, &x->gains, e);
@@ -65,6 +86,26 @@ FW_INLINE void tick_axis(unsigned n, unsigned ph4, int general)
     }
     x->out = u;
     hal_wr16(AX_REG(n, AX_DAC), (uint16_t)u);
+}
+
+/* One axis: its measurement, then the body its path byte names, read after
+ * the measurement (an encoder error disables the axis there).  The K-only
+ * tick (general 0) has no RUN_FULL: card_servo_general is clear only while
+ * no axis' gains are full, and axis_set_gains keeps it with the gains. */
+FW_INLINE void tick_axis_at(unsigned n, unsigned ph4, int general)
+{
+    axis_t *x = &axes[n];
+    PIN_PTR(x);
+    tick_measure(x, n);
+    uint8_t path = x->servo_path;
+    if (path == SERVO_PATH_RUN)
+        tick_axis(x, n, ph4, SERVO_PATH_RUN, general);
+    else if (general && path == SERVO_PATH_RUN_FULL)
+        tick_axis(x, n, ph4, SERVO_PATH_RUN_FULL, general);
+    else if (path == SERVO_PATH_BRAKE)
+        tick_axis(x, n, ph4, SERVO_PATH_BRAKE, general);
+    else
+        tick_axis(x, n, ph4, SERVO_PATH_IDLE, general);
 }
 
 /* The SP boundary for INC/SSI (the STP's is stp_take_segment), inlined
@@ -100,10 +141,10 @@ FW_INLINE void tick(int general)
         card_profile_due = MAC4_NAXES;
     }
     unsigned ph4 = phase * 4u;
-    tick_axis(0, ph4, general);
-    tick_axis(1, ph4, general);
-    tick_axis(2, ph4, general);
-    tick_axis(3, ph4, general);
+    tick_axis_at(0, ph4, general);
+    tick_axis_at(1, ph4, general);
+    tick_axis_at(2, ph4, general);
+    tick_axis_at(3, ph4, general);
     card_ticks++;
 }
 

@@ -5,7 +5,7 @@
  * host: the filter is firmware/servo.h itself, the measurement measure.h
  * and measure.c; the tick's glue around them - fw_isr_tick, take_row,
  * tick_axis and the axis-state changes an encoder error makes - is
- * firmware/card.c's, restated below statement for statement (card.c
+ * firmware/tick_servo.c's and axis.c's, restated below (tick_servo.c
  * keeps it static).
  */
 #include <stdio.h>
@@ -94,7 +94,12 @@ void vme_irq(uint8_t vector) { vme_irqs += vector != 0; }   /* the DPRAM path on
 void axis_prepare(unsigned n) { (void)n; }
 void axis_set_pos(unsigned n) { (void)n; }
 
-/* ---- card.c's tick (INC/SSI), statement for statement --------------------- */
+/* ---- tick_servo.c's tick (INC/SSI) ------------------------------------------
+ * The firmware dispatches each axis on its byte servo_path (servo_card.h
+ * servo_path_of: IDLE for disabled or test, BRAKE while braking, else RUN or
+ * RUN_FULL by gains.full) to one body instantiated per path; the path is a
+ * function of the mode, braking and the gains, so the same tick is stated
+ * here with those tests made directly. */
 static inline int32_t brake_slower(const axis_t *x)
 {
     int32_t v = x->br_v, dv = x->br_dec;
