@@ -47,7 +47,7 @@ FW_SERVO := firmware/tick_servo.c firmware/servo_meas.c firmware/servo_motion.c
 FW_INC   := firmware/counter_meas.c
 FW_SSI   := firmware/ssi_meas.c
 FW_STP   := firmware/tick_stp.c firmware/stepper.c firmware/stp_rate.c firmware/stp_meas.c firmware/stp_motion.c \
-            firmware/counter_meas.c
+            $(FW_INC)
 FW_SRCS  := $(filter-out $(FW_SERVO) $(FW_INC) $(FW_SSI) $(FW_STP),$(FW_ALL_SRCS))
 fw_srcs_inc := $(FW_SRCS) $(FW_SERVO) $(FW_INC)
 fw_srcs_ssi := $(FW_SRCS) $(FW_SERVO) $(FW_SSI)

@@ -90,8 +90,10 @@ FW_INLINE void tick_axis(axis_t *x, unsigned n, unsigned ph4, unsigned path, int
 
 /* One axis: its measurement, then the body its path byte names, read after
  * the measurement (an encoder error disables the axis there).  The K-only
- * tick (general 0) has no RUN_FULL: card_servo_general is clear only while
- * no axis' gains are full, and axis_set_gains keeps it with the gains. */
+ * tick (general 0) has no RUN_FULL: RUN_FULL means gains.full, and
+ * axis.c's axis_set_gains, their one writer (card.h's writers: line, checked by
+ * tools/onewriter.py), sets the axis' bit of card_servo_general with them,
+ * so the general tick runs whenever an axis' path is RUN_FULL. */
 FW_INLINE void tick_axis_at(unsigned n, unsigned ph4, int general)
 {
     axis_t *x = &axes[n];

@@ -52,8 +52,11 @@ idle_stats_t idle_stats;
 #define MAX_WRITES 4096
 #define MAX_IO 64
 #define NREG 34
-/* A recorded instruction costs the host about three emulated ones: a window
- * that skipped less than REC_COST times its own length did not pay. */
+/* A window that skipped less than REC_COST times its own cycles counts as
+ * a failure for the back-off: recording costs the host more than emulating
+ * (idle_rec_read/_write, the checkpoints).  With 1 instead of 3 the bench
+ * scenario took 8% more host instructions (cachegrind), the idle card the
+ * same (docs/performance.md, "The idle skip"). */
 #define REC_COST 3
 #define SHORT_PASS_FIRST 4096   /* cycles, until a window gives the idle pass' length */
 
