@@ -280,11 +280,18 @@ FW_INLINE void execute_and_respond(const mac4_msg_t *in)
 
 static __attribute__((noinline)) void watchdog_fire(void)
 {
-    /* 4.7, 6.3.6: all axes stop (emergency ramp; test mode without) */
+    /* 4.7, 6.3.6: all axes stop (emergency ramp; test mode without), each
+     * in a masked section of its own, as the supervision's reactions are:
+     * the tick sees an axis' stop whole, and waits for one axis' set-up,
+     * not four */
     wd_fired = 1;
-    unsigned prev = hal_irq_save();
-    for (unsigned n = 0; n < MAC4_NAXES; n++)
+    unsigned prev;
+    for (unsigned n = 0; n < MAC4_NAXES; n++) {
+        prev = hal_irq_save();
         motion_emergency(n, STOP_DISABLE);
+        hal_irq_restore(prev);
+    }
+    prev = hal_irq_save();
     card_ostat |= OB(WATCH_F);
     card_err_report = ERR_WATCHDOG;
     hal_irq_restore(prev);

@@ -256,8 +256,10 @@ def commands(card, ms=1000):
         lines += ["send %d WAP %d" % (a, far), "send %d E" % a, "send 3 %s" % ("INIT" if k % 2 == 0 else "DEINIT"),
                   "run 10"]
     lines += ["perf quiet off"] + positions_lines() + ["perf quiet on"] + every_command_lines(card, tg)
-    # and last the watchdog (4.7): <wd> 20 ms, then silence - all axes stop at once (watchdog_fire)
-    lines += ["send 0 E", "send 1 E", "send 2 E", "run 20", "send 0 WWD 20", "run 60"]
+    # and last the watchdog (4.7) with all four axes moving: <wd> 20 ms, then
+    # silence - all axes stop at once (watchdog_fire)
+    lines += ["send 3 INIT", "send 3 ME", "send 3 E", "run 20", "send 3 WAP %d" % tg[3], "send 3 MP"]
+    lines += ["send %d E" % a for a in AXES] + ["run 20", "send 0 WWD 20", "run 60"]
     lines += ["perf quiet off", "perf report"]
     return "\n".join(lines) + "\n"
 
