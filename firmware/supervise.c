@@ -136,7 +136,7 @@ FW_INLINE void supervise_axis(unsigned n, unsigned ph)
     PIN_PTR(x);
     tick_result(x, ph);                           /* INC/SSI (the STP's tick keeps them itself) */
     if (x->mk_tick != MK_NONE)                    /* RAV: the tick keeps only meas */
-        x->vel = x->meas - x->meas_sup;
+        x->vel = pos_sub(x->meas, x->meas_sup);
     if (x->mk_tick == MK_COUNTER)                 /* RED: the counter path keeps only the counter */
         x->raw = x->counter;
     x->meas_sup = x->meas;
