@@ -157,9 +157,9 @@ FW_INLINE int32_t stp_measured(unsigned n, int32_t d)
 {
     stp_t *s = &stp_ax[n];
     PIN_PTR(s);
-    s->inc += d;
+    s->inc = pos_add(s->inc, d);                  /* modulo 2^32, as the positions */
     int32_t m = stp_scale(s->inc, s->ratio);
-    d = m - s->conv;
+    d = pos_sub(m, s->conv);
     s->conv = m;
     return d;
 }

@@ -18,8 +18,10 @@ equivalent change, or one no scenario can reach).
     tools/mutate.py -k servo        those whose name contains "servo"
     tools/mutate.py -k stp,servo-sw those whose name contains either
     tools/mutate.py --list          the list only
+    tools/mutate.py --check         each text to change occurs once in its file (make test)
 Run `make all native witness-bins` first.  Exit status 1 when a mutation
-without a stated reason survives, 2 on a usage or setup error.
+without a stated reason survives (--check: when a text is stale), 2 on a
+usage or setup error.
 """
 import argparse
 import os
@@ -36,10 +38,10 @@ SERVO, STP, ALL = ("inc", "ssi"), ("stp",), ("inc", "ssi", "stp")
 # (name, file, text, replacement, cards, why it may survive or None)
 MUTATIONS = [
     # the servo filter (5.16): every term
-    ("servo-gain", "firmware/servo.h", "int32_t u1 = muls16(g->ga, e) * 64;\n    if (g->ze)",
-     "int32_t u1 = muls16(g->ga, e) * 65;\n    if (g->ze)", SERVO, None),
-    ("servo-gain-k", "firmware/servo.h", "int32_t u1 = muls16(g->ga, e) * 64;\n    /* the limits",
-     "int32_t u1 = muls16(g->ga, e) * 63;\n    /* the limits", SERVO, None),
+    ("servo-gain", "firmware/servo.h", "int32_t u1 = muls16(e, g->ga) * 64;\n    if (g->ze)",
+     "int32_t u1 = muls16(e, g->ga) * 65;\n    if (g->ze)", SERVO, None),
+    ("servo-gain-k", "firmware/servo.h", "int32_t u1 = muls16(e, g->ga) * 64;\n    int32_t t",
+     "int32_t u1 = muls16(e, g->ga) * 63;\n    int32_t t", SERVO, None),
     ("servo-zero", "firmware/servo.c", "g->gzh = (int16_t)(gz >> 8);", "g->gzh = (int16_t)((gz >> 8) + 1);",
      SERVO, None),
     ("servo-zero-round", "firmware/servo.h", "(muls16(ep, g->gzl) >> 2)", "(muls16(ep, g->gzl) >> 3)", SERVO, None),
@@ -50,7 +52,7 @@ MUTATIONS = [
      SERVO, None),
     ("servo-sw", "firmware/servo.c", "set_range(g, m, (int16_t)-m);", "set_range(g, (int16_t)(m + 1), (int16_t)-m);",
      SERVO, None),
-    ("servo-output-round", "firmware/servo.h", "(u1 + u2 + 128) >> 8;", "(u1 + u2 + 64) >> 8;", SERVO, None),
+    ("servo-output-round", "firmware/servo.h", "int32_t t = u1 + u2 + 128;", "int32_t t = u1 + u2 + 64;", SERVO, None),
     ("servo-e-limit", "firmware/servo.c", "divu16(1ul << 18, (uint16_t)ga)", "divu16(1ul << 17, (uint16_t)ga)",
      SERVO, None),
     # the profile generator (5.6)
@@ -161,6 +163,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("-k", default="", help="only mutations whose name contains this (or one of these, comma-separated)")
     ap.add_argument("--list", action="store_true")
+    ap.add_argument("--check", action="store_true", help="only check that each text occurs once in its file")
     ap.add_argument("--keep", action="store_true", help="keep the temporary tree (its path is printed)")
     a = ap.parse_args()
     chosen = [m for m in MUTATIONS if any(k in m[0] for k in a.k.split(","))]
@@ -171,14 +174,17 @@ def main():
     if not chosen:
         print("mutate.py: no mutation matches '%s'" % a.k, file=sys.stderr)
         return 2
+    stale = [(name, path, open(os.path.join(ROOT, path)).read().count(old)) for name, path, old, *_ in chosen]
+    stale = [s for s in stale if s[2] != 1]
+    for name, path, n in stale:
+        print("mutate.py: %s: the text to change occurs %d times in %s" % (name, n, path), file=sys.stderr)
+    if a.check:
+        return 1 if stale else 0
+    if stale:
+        return 2
     for need in ("mac4sim", "witness/witness-m68k", "deps/musashi/.stamp"):
         if not os.path.exists(os.path.join(BUILD, need)):
             print("mutate.py: build/%s missing: run `make all native witness-bins` first" % need, file=sys.stderr)
-            return 2
-    for name, path, old, new, *_ in chosen:
-        n = open(os.path.join(ROOT, path)).read().count(old)
-        if n != 1:
-            print("mutate.py: %s: the text to change occurs %d times in %s" % (name, n, path), file=sys.stderr)
             return 2
     tmp = tempfile.mkdtemp(prefix="mac4-mutate-")
     log = os.path.join(tmp, "mutate.log")

@@ -5,12 +5,15 @@ tick.  A difference is a bug in one of the two builds (endianness, integer
 widths, undefined behaviour - the native build aborts on UB) and the failure
 names the first diverging tick.  Machinery: diffrun.py."""
 import os
+import subprocess
+import sys
 
 import pytest
 
 from diffrun import M68K, compare, moved, native
 
 AXES = range(4)
+ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 
 
 def enable_all(card="inc"):
@@ -159,6 +162,15 @@ def test_stop_bits_at_every_phase_of_the_profile_period(card, extra):
 # ---- every term, mode, measurement path and protective reaction ----------
 # (docs/hardening.md, "Mutation": tools/mutate.py shows that a small change
 # of the native build in any of them makes these fail)
+
+def test_every_mutation_still_applies():
+    """tools/mutate.py's list names texts of the firmware: each must occur
+    once, or the mutation run would stop on a stale entry (the list follows
+    the code as it moves)."""
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "mutate.py"), "--check"],
+                       capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+
 
 def servo_terms(card, at=0):
     """Each axis its own filter, so that every term reaches the DAC word:
