@@ -37,7 +37,12 @@ C = dict(INIT=2, E=3, C=4, DEINIT=5, MR=6, VER=7, FLYON=8, FLYOFF=9, USR=10, USN
          WLV=98, WVT=100, WAT=102, WDA=104, WTR=106, WMF=112, WAA=114, WGA=130, WZE=132, WPO=134,
          WKI=136, WWD=138, WSSF=140, WIRQ1=144, WIRQ2=146, WIRQ5=152, WZP=156, UWSH=170, UWLP=172,
          UWLN=174, UWCR=176, UWET=178, UWEA=180, UWEB=182, UWEC=184, UWSC=186, UWPS=192, UWNS=194,
-         UWRS=196, UWDF=198, UWSF=202, UWAO=204, RCP=116, RED=119, RFE=120, RAS=124, RBS=125, RSS=126)
+         UWRS=196, UWDF=198, UWSF=202, UWAO=204, RCP=116, RED=119, RFE=120, RAS=124, RBS=125, RSS=126,
+         # the extensions (codes 210 on)
+         WCRA=210, WCCA=212, WCSD=214, WCRW=216, WCCL=218, WCRS=220, WCCS=222, WCWR=224, CDEF=226,
+         CENT=227, CPTR=228, RCEN=229, RCSM=230, CON=231, RCC=232, REXL=233, REXB=234, WPCP=240,
+         WPCN=242, WPCE=244, WIRQ7=246, PCON=248, RPCC=249, RPCI=250, FBX=260, FBS=261, FBW1=262,
+         FBW2=263, RFBS=264, RFW1=265, RFW2=266, RFBR=267, WFBE=270)
 
 
 def u16(v):
@@ -205,6 +210,30 @@ CMD = {
     + c_cmd(0, "MR") + c_run(255) + c_run(255),
     "deinit-usr": c_mode(0, 52) + c_cmd(0, "DEINIT") + c_cmd(0, "USR") + c_cmd(0, "INIT") + c_cmd(0, "USN")
     + c_cmd(0, "TURBO", 1) + c_cmd(0, "FLYOFF") + c_cmd(0, "FLYON"),
+    # the extensions (docs/extensions.md), each set up as a host would and
+    # then run: a table, a compare window, the feedback entries
+    "ext-comp-1d": c_cmd(0, "INIT") + c_cmd(0, "WCCL", 4) + c_cmd(0, "WCRS", 4000) + c_cmd(0, "CDEF")
+    + b"".join(c_cmd(0, "CENT", v & 0xFFFFFFFF) for v in (0, 160, -320, 480, 0)) + c_cmd(0, "RCSM")
+    + c_cmd(0, "CON", 1) + c_cmd(0, "ME") + c_cmd(0, "E") + c_cmd(0, "WAP", 3000) + c_cmd(0, "MP") + c_cmd(0, "E")
+    + c_run(255) + c_cmd(0, "RCC") + c_cmd(0, "CPTR", 2) + c_cmd(0, "RCEN") + c_cmd(0, "WCWR", 1)
+    + c_cmd(0, "REXL") + c_cmd(0, "REXB") + c_cmd(0, "CON", 0) + c_cmd(0, "DEINIT"),
+    "ext-comp-2d": b"".join(c_cmd(a, "INIT") for a in range(3)) + c_cmd(2, "WCRA", 0) + c_cmd(2, "WCCA", 1)
+    + c_cmd(2, "WCSD", 3) + c_cmd(2, "WCRW", 2) + c_cmd(2, "WCCL", 2) + c_cmd(2, "WCRS", 2000)
+    + c_cmd(2, "WCCS", 1000) + c_cmd(2, "CDEF") + b"".join(c_cmd(2, "CENT", 16 * k) for k in range(9))
+    + c_cmd(2, "CON", 1) + c_mode(0, 57) + c_mode(1, 59) + c_mode(2, 52) + c_run(255) + c_cmd(2, "RCC")
+    + b"\x08\x80" + u32(1 << 16) + c_run(20) + c_cmd(2, "CDEF"),
+    "ext-compare": c_cmd(0, "INIT") + c_cmd(0, "ME") + c_cmd(0, "E") + c_cmd(0, "WIRQ7", 0x40)
+    + c_cmd(0, "WPCP", 1000) + c_cmd(0, "WPCN", 500) + c_cmd(0, "WPCE", 5000) + c_cmd(0, "PCON", 1)
+    + c_cmd(0, "WAP", 6000) + c_cmd(0, "MP") + c_cmd(0, "E") + c_run(255) + c_run(255) + c_cmd(0, "RPCC")
+    + c_cmd(0, "RPCI") + c_cmd(0, "WAP", 0) + c_cmd(0, "E") + c_run(255) + c_cmd(0, "PCON", 2) + c_cmd(0, "C")
+    + c_cmd(0, "PCON", 0),
+    "ext-feedback": c_cmd(0, "INIT") + c_cmd(1, "INIT") + c_cmd(0, "FBX", 0) + c_cmd(0, "FBS", 0xE01110)
+    + c_cmd(0, "FBX", 1) + c_cmd(0, "FBW2", 1 << 20) + c_cmd(0, "FBS", 0xD00000)
+    + c_cmd(0, "FBX", 2) + c_cmd(0, "FBW1", 16) + c_cmd(0, "FBW2", 100) + c_cmd(0, "FBS", 0x300020)
+    + c_cmd(0, "FBX", 3) + c_cmd(0, "FBW1", 1 << 18) + c_cmd(0, "FBW2", 1 << 10) + c_cmd(0, "FBS", 0xB00010)
+    + c_cmd(0, "RFBS") + c_cmd(0, "RFW1") + c_cmd(0, "RFW2") + c_cmd(0, "WFBE", 2) + c_mode(0, 59)
+    + c_mode(1, 57) + c_run(255) + c_cmd(0, "FBX", 1) + c_cmd(0, "RFBR") + c_cmd(0, "FBX", 9) + c_cmd(0, "C")
+    + c_cmd(0, "FBX", 0) + c_cmd(0, "FBS", 0),
 }
 
 
