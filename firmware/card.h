@@ -25,15 +25,16 @@ typedef struct {
     struct {
         uint32_t ustat;     /* user status, manual 7.1.1 (RBS); bits 0-7 = mode */
         uint32_t sstat;     /* system status, manual 7.1.2 (RSS) */
-        /* writers: axis.c cmd.c */
-        uint16_t err_report;/* error code to give as the answer to the next command, 0 none */
+        /* writers: axis.c axis.h */
+        uint16_t err_report;/* error code to give as the answer to the next command, 0 none:
+                             * axis_error sets it, axis_error_reported clears it once given */
     };
-    /* axis state: axis.c alone writes the mode (axis_set_mode); next_mode is
-     * the commands' (cmd_general.c), cleared by a stop or a disable */
+    /* axis state: axis.c alone writes the mode (axis_set_mode) and
+     * next_mode (axis.h axis_select_mode: a mode command, cleared by E,
+     * INIT, DEINIT, a stop bit, a disable and a reset) */
     struct {
-        /* writers: axis.c */
+        /* writers: axis.c axis.h */
         uint8_t mode;       /* mode in force (M_*) */
-        /* writers: cmd_general.c axis.c card.c supervise.c */
         uint8_t next_mode;  /* mode selected for the next E, or NO_MODE */
     };
     /* outputs: the shadow of AX_CTRL is written with every write of the
@@ -46,12 +47,14 @@ typedef struct {
         int16_t out;        /* DAC word (INC/SSI) or step rate (STP) */
     };
     /* position measurement: the tick writes meas, raw and counter (measure.h,
-     * stepper.c's increment conversion); the supervision after it the rest
-     * (supervise.c: vel, meas_sup, mk_tick, RED's raw on the counter path);
-     * pos is the main loop's (axis_set_pos); a compensation table
-     * (ext_comp.c) moves meas, meas_sup and pos together, masked */
+     * stepper.c's increment conversion); the supervision after it vel and
+     * RED's raw on the counter path (supervise.c); pos, meas_sup and mk_tick
+     * are axis.c's (axis_set_pos; axis.h's axis_supervised_at and
+     * axis_follow_init, which the supervision inlines, and axis_measure_off
+     * at a reset and INIT); a compensation table (ext_comp.c) moves meas, and
+     * meas_sup and pos with it (axis.h axis_moved_by), masked */
     struct {
-        /* writers: axis.c measure.h ext_comp.c */
+        /* writers: axis.c axis.h measure.h */
         int32_t pos;        /* actual position: measured + <ao> (RCP) */
         /* writers: measure.c measure.h stepper.c ext_comp.c */
         int32_t meas;       /* measured position without offset */
@@ -61,9 +64,9 @@ typedef struct {
         uint32_t counter;   /* last processed counter content (RCT) */
         /* writers: supervise.c measure.c */
         int32_t vel;        /* actual velocity per servo period (RAV) */
-        /* writers: supervise.c motion.c ext_comp.c */
+        /* writers: axis.h */
         int32_t meas_sup;   /* meas at the last supervision: RAV of the counter path */
-        /* writers: supervise.c card.c cmd_general.c ext_comp.c */
+        /* writers: axis.h */
         uint8_t mk_tick;    /* what the tick measures: mk once initialised, else MK_NONE (card_supervise) */
     };
     /* the setpoint and following error the tick used: the supervision's on
@@ -135,16 +138,22 @@ typedef struct {
         uint8_t servo_path;
     };
     /* the mode's motion: the motion files' (motion*.c, main loop; stepper.c
-     * the STP's creep phase), masked where the tick reads them */
+     * the STP's creep phase), masked where the tick reads them.  motion.c
+     * sets up the target and the settling time at E (motion_start); the
+     * rest is the mode's progress, which the profile generator, the
+     * justification modes and the supervision's index latch move on */
     struct {
-        /* writers: motion.c motion_profile.c motion_justify.c motion_supervise.c stepper.c */
+        /* writers: motion.c */
         int64_t target;     /* positioning target */
+        /* writers: motion.c motion_profile.c motion_justify.c motion_supervise.c stepper.c */
         int32_t edge;       /* justification: position of the edge / index found */
         uint8_t phase;      /* phase of a justification mode */
         uint8_t done;       /* the move of the current mode is complete */
         uint8_t idx_seen;   /* index latched during a search */
-        uint16_t trt_count;
-        uint16_t trt_periods;
+        /* writers: motion.c motion_profile.c */
+        uint16_t trt_count; /* SP in the target window so far: motion.c zeroes it at E */
+        /* writers: motion.c */
+        uint16_t trt_periods;   /* <trt> in SP, in the target window before pos_end (5.6) */
     };
     /* a protective stop: motion.c begins it (motion_emergency), the
      * supervision watches and ends it (motion_supervise.c stop_watch,
@@ -189,10 +198,11 @@ typedef struct {
     servo_state_t servo;
     /* the tick's and the supervision's copies of parameters, prepared by
      * axis.c (axis_prepare, axis_prepare_mode) at INIT and E so that neither
-     * looks one up; a compensation table (ext_comp.c) switches mk; in_eval
-     * is cleared by the supervision once it has looked at the inputs */
+     * looks one up; a compensation table switches mk through axis.h
+     * (axis_kind_relative, axis_kind_restore); in_eval is set by axis.c
+     * and cleared by the supervision once it has looked at the inputs */
     struct {
-        /* writers: axis.c ext_comp.c */
+        /* writers: axis.c axis.h */
         uint8_t mk;         /* measurement kind, MK_* */
         uint8_t linear;     /* <sh> == 1 */
         int32_t cr, lp, ln, mf;
@@ -307,6 +317,7 @@ void axis_init_measurement(unsigned n);    /* INIT: derive ea/eb/ec, zero relati
 void axis_prepare(unsigned n);             /* main loop: refresh the tick's copies */
 void axis_prepare_mode(unsigned n);        /* ... of the mode parameters alone (E, initialised) */
 void axis_set_pos(unsigned n);             /* main loop: pos from meas and <ao>, wrapped */
+/* axis.h: axis.c's writes the commands, the supervision and the extensions make inline */
 
 /* VMEbus interrupts (4.6): vector 0 = off. */
 void vme_irq(uint8_t vector);

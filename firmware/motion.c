@@ -21,6 +21,7 @@
 #include "hal.h"
 #include "mul16.h"
 #include "card.h"
+#include "axis.h"
 #include "params.h"
 #include "motion.h"
 #include "motion_priv.h"
@@ -276,6 +277,6 @@ int axis_standstill(unsigned n)
 void axis_init_measurement(unsigned n)
 {
     measure_init(n);
-    axes[n].meas_sup = axes[n].meas;
+    axis_supervised_at(&axes[n], axes[n].meas);    /* axis.h */
     ext_axis_init(n);                            /* the extensions follow the new measurement */
 }
