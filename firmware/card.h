@@ -9,11 +9,14 @@
 
 /* One object per axis, in parts.  Each part says who writes it and when;
  * "masked" is with interrupts masked (hal_irq_save), which every main-loop
- * writer of a part the tick reads holds.  A part with two writers is a
- * hand-over between them, and says which side writes what.  The
- * `writers:` line before a part or a field names every file that writes it
- * (its inline code: the header); make arch-check fails on any other
- * (tools/onewriter.py, tools/onewriter.allow, docs/hardening.md). */
+ * writer of a part the tick reads holds.  The `writers:` line before a
+ * part or a field names every file that writes it (its inline code: the
+ * header); make arch-check fails on any other, and on a part written by
+ * more than one module (a .c file and its own header, axis.c and axis.h)
+ * that tools/onewriter.allow does not explain: such a part is a hand-over
+ * between them, and says which side writes what.  The others write a
+ * part through its owner's functions (tools/onewriter.py,
+ * docs/hardening.md). */
 typedef struct {
     /* status (7.1): the stages set and clear their own bits through
      * axis.c (axis_set_mode, axis_error) and the commands (cmd*.c); the
@@ -178,9 +181,10 @@ typedef struct {
     /* the profile generator's Q16 velocities per SP of the common modes
      * (vq() of <pv>, <pa>, <pd>, <ed>), recomputed only when par_a or TURBO
      * changed; q_free: prof_free_distance(<pv>, <pd>).  motion.c's alone
-     * (vq_compute), main loop */
+     * (vq_compute), main loop; the positioning steps read q_l32 through a
+     * const pointer (tools/onewriter.allow) */
     struct {
-        /* writers: motion.c motion_profile.c servo_motion.h */
+        /* writers: motion.c */
         int64_t q_pv, q_pa, q_pd, q_ed, q_free;
         int64_t q_hi, q_lo; /* target -/+ max(q_free, q_pv) when <pv> and <pa> fit 32 bits (prof_cruise32) */
         uint8_t q_fast;     /* ... and then prof_cruise32 applies */
