@@ -23,7 +23,8 @@ typedef struct {
      * supervision (supervise.c, motion_supervise.c) its switch and fault
      * bits, masked */
     /* writers: axis.c card.c cmd.c cmd_general.c ext_comp.c ext_compare.c stp_motion.h
-     * motion_justify.c motion_profile.c motion_supervise.c stepper.c supervise.c ssi_card.h
+     * motion.c motion_justify.c motion_profile.c motion_supervise.c stepper.c supervise.c
+     * ssi_card.h
      * (bit by bit: status.def USTAT_BY/SSTAT_BY) */
     struct {
         uint32_t ustat;     /* user status, manual 7.1.1 (RBS); bits 0-7 = mode */
@@ -142,31 +143,33 @@ typedef struct {
     };
     /* the mode's motion: the motion files' (motion*.c, main loop; stepper.c
      * the STP's creep phase), masked where the tick reads them.  motion.c
-     * sets up the target and the settling time at E (motion_start); the
-     * rest is the mode's progress, which the profile generator, the
-     * justification modes and the supervision's index latch move on */
+     * sets up the target and the settling time at E (motion_start), and
+     * keeps the index latch and the count in the target window (the
+     * supervision and the positioning step call motion_priv.h for them);
+     * edge, phase and done are the mode's progress, which the profile
+     * generator and the justification modes move on */
     struct {
         /* writers: motion.c */
         int64_t target;     /* positioning target */
-        /* writers: motion.c motion_profile.c motion_justify.c motion_supervise.c stepper.c */
+        /* writers: motion.c motion_priv.h motion_profile.c motion_justify.c stepper.c */
         int32_t edge;       /* justification: position of the edge / index found */
         uint8_t phase;      /* phase of a justification mode */
         uint8_t done;       /* the move of the current mode is complete */
-        uint8_t idx_seen;   /* index latched during a search */
-        /* writers: motion.c motion_profile.c */
-        uint16_t trt_count; /* SP in the target window so far: motion.c zeroes it at E */
-        /* writers: motion.c */
+        /* writers: motion.c motion_priv.h */
+        uint8_t idx_seen;   /* index latched during a search (motion_priv.h index_latched) */
+        uint16_t trt_count; /* SP in the target window so far (trt_count_step, _reset) */
         uint16_t trt_periods;   /* <trt> in SP, in the target window before pos_end (5.6) */
     };
-    /* a protective stop: motion.c begins it (motion_emergency), the
-     * supervision watches and ends it (motion_supervise.c stop_watch,
-     * stop_done); axis.c clears it at a disable.  INC/SSI: a stop that ends
-     * only with the mechanics at rest under closed-loop control, with its
-     * runaway guards */
+    /* a protective stop: motion.c's, which begins it (motion_emergency),
+     * watches it after every tick and ends it (motion_priv.h stop_watch,
+     * inline in the supervision; stop_done, which the supervision and the
+     * profile generator call); axis.c clears it at a disable.  INC/SSI: a stop that ends only with the mechanics at rest
+     * under closed-loop control, with its runaway guards */
     struct {
-        /* writers: motion.c motion_supervise.c axis.c */
+        /* writers: motion.c axis.c */
         uint8_t stop_then;  /* protective stop in progress: STOP_* */
         uint8_t stop_settle;    /* wait for the mechanics at rest before STOP_DISABLE/DEINIT */
+        /* writers: motion.c motion_priv.h */
         uint8_t stop_rest;      /* supervised ticks in a row with |RAV| <= STOP_REST_VEL */
         uint16_t stop_ticks;    /* supervised ticks since the stop began */
         uint16_t stop_limit;    /* time bound in ticks, set when the setpoint ramp ends (brake_done) */
@@ -232,7 +235,7 @@ typedef struct {
 #define STOP_DISABLE 2  /* emergency ramp <ed>, at rest, then disable */
 #define STOP_DEINIT 3   /* DEINIT: stop with <ed>, at rest, disable, clear init (4.9) */
 
-/* The end of a stop that disables (INC/SSI, motion_supervise.c stop_watch): the
+/* The end of a stop that disables (INC/SSI, motion_priv.h stop_watch): the
  * mechanics at rest, |RAV| <= STOP_REST_VEL for STOP_REST_TICKS ticks in a
  * row, at most 2 x the setpoint ramp's ticks + STOP_SETTLE_TICKS after the
  * stop began; /EN opens at once if |RFE| exceeds its value at the start of

@@ -127,10 +127,10 @@ void pos_end_check(unsigned n)
             pos_end_card(x);                     /* STP: IN_POS, 7.1.2 (LED P) */
             vme_irq((uint8_t)PAR(n, IRQ4));
         } else {
-            x->trt_count++;
+            trt_count_step(x);
         }
     } else {
-        x->trt_count = 0;
+        trt_count_reset(x);
     }
 }
 
