@@ -143,19 +143,20 @@ typedef struct {
     };
     /* the mode's motion: the motion files' (motion*.c, main loop; stepper.c
      * the STP's creep phase), masked where the tick reads them.  motion.c
-     * sets up the target and the settling time at E (motion_start), and
-     * keeps the index latch and the count in the target window (the
-     * supervision and the positioning step call motion_priv.h for them);
-     * edge, phase and done are the mode's progress, which the profile
-     * generator and the justification modes move on */
+     * sets up the target and the settling time at E (motion_start); the
+     * profile generator, the justification modes and the supervision's
+     * index latch move the mode's progress on through motion_priv.h
+     * (mode_done, edge_found, index_latched, trt_count_step); the phase is
+     * the justification modes' (motion_justify.c) and the STP's creep's
+     * (stepper.c), motion.c zeroes it at E */
     struct {
-        /* writers: motion.c */
-        int64_t target;     /* positioning target */
-        /* writers: motion.c motion_priv.h motion_profile.c motion_justify.c stepper.c */
-        int32_t edge;       /* justification: position of the edge / index found */
-        uint8_t phase;      /* phase of a justification mode */
-        uint8_t done;       /* the move of the current mode is complete */
         /* writers: motion.c motion_priv.h */
+        int64_t target;     /* positioning target */
+        int32_t edge;       /* justification: position of the edge / index found (edge_found) */
+        /* writers: motion.c motion_justify.c stepper.c */
+        uint8_t phase;      /* phase of a justification mode (STP: of the creep) */
+        /* writers: motion.c motion_priv.h */
+        uint8_t done;       /* the move of the current mode is complete (mode_done) */
         uint8_t idx_seen;   /* index latched during a search (motion_priv.h index_latched) */
         uint16_t trt_count; /* SP in the target window so far (trt_count_step, _reset) */
         uint16_t trt_periods;   /* <trt> in SP, in the target window before pos_end (5.6) */

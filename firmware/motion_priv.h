@@ -47,6 +47,18 @@ FW_INLINE void motion_emergency_ferr(unsigned n)
     motion_emergency(n, STOP_DISABLE);
     axis_at[n]->stop_ferr = 1;
 }
+/* The move of the mode in force is complete, or not yet (the profile
+ * generator's steps, motion_profile.c, motion_justify.c): what motion_busy
+ * and off-fly wait for; motion_start clears it at E. */
+FW_INLINE void mode_done(axis_t *x, int done)
+{
+    x->done = (uint8_t)done;
+}
+/* A justification mode has found its edge at position edge (motion_justify.c). */
+FW_INLINE void edge_found(axis_t *x, int32_t edge)
+{
+    x->edge = edge;
+}
 /* The index latched during a search at the position edge (motion_supervise.c). */
 FW_INLINE void index_latched(axis_t *x, int32_t edge)
 {
