@@ -164,8 +164,9 @@ typedef struct {
     /* a protective stop: motion.c's, which begins it (motion_emergency),
      * watches it after every tick and ends it (motion_priv.h stop_watch,
      * inline in the supervision; stop_done, which the supervision and the
-     * profile generator call); axis.c clears it at a disable.  INC/SSI: a stop that ends only with the mechanics at rest
-     * under closed-loop control, with its runaway guards */
+     * profile generator call); axis.c clears it at a disable.  INC/SSI:
+     * a stop that ends only with the mechanics at rest under closed-loop
+     * control, with its runaway guards */
     struct {
         /* writers: motion.c axis.c */
         uint8_t stop_then;  /* protective stop in progress: STOP_* */
@@ -325,7 +326,7 @@ void axis_init_measurement(unsigned n);    /* INIT: derive ea/eb/ec, zero relati
 void axis_prepare(unsigned n);             /* main loop: refresh the tick's copies */
 void axis_prepare_mode(unsigned n);        /* ... of the mode parameters alone (E, initialised) */
 void axis_set_pos(unsigned n);             /* main loop: pos from meas and <ao>, wrapped */
-/* axis.h: axis.c's writes the commands, the supervision and the extensions make inline */
+/* axis.h: the writes of axis.c's parts that the commands, the supervision and the extensions make, inline */
 
 /* VMEbus interrupts (4.6): vector 0 = off. */
 void vme_irq(uint8_t vector);

@@ -68,7 +68,7 @@ def test_a_wrong_writer_is_found(tmp_path):
     assert onewriter.check(root) == [
         F + "b.c:1: writes meas, whose writers are " + F + "a.c",
         F + "b.c:1: writes pos, whose writers are " + F + "a.c",
-        F + "c.c:1: writes vel, whose writers are " + F + "b.c firmware/b.h"]
+        F + "c.c:1: writes vel, whose writers are " + F + "b.c " + F + "b.h"]
     r = subprocess.run(TOOL + ["--root", root], capture_output=True, text=True, timeout=60)
     assert r.returncode == 1 and "b.c:1: writes pos" in r.stdout
 
