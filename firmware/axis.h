@@ -48,6 +48,14 @@ FW_INLINE void axis_kind_restore(axis_t *x, uint8_t mk)
         x->mk_tick = mk;
 }
 
+/* The supervision has looked at the switch inputs (supervise.c): again at
+ * the next tick only if again (an active drive fault, which acts as soon
+ * as the axis runs); axis_prepare_mode asks for it at INIT and E. */
+FW_INLINE void axis_inputs_evaluated(axis_t *x, int again)
+{
+    x->in_eval = (uint8_t)again;
+}
+
 /* What the tick measures from now: mk once initialised, else MK_NONE (4.9). */
 FW_INLINE void axis_follow_init(axis_t *x)
 {

@@ -209,15 +209,14 @@ typedef struct {
      * axis.c (axis_prepare, axis_prepare_mode) at INIT and E so that neither
      * looks one up; a compensation table switches mk through axis.h
      * (axis_kind_relative, axis_kind_restore); in_eval is set by axis.c
-     * and cleared by the supervision once it has looked at the inputs */
+     * and cleared by the supervision once it has looked at the inputs
+     * (axis.h axis_inputs_evaluated, inline there) */
     struct {
         /* writers: axis.c axis.h */
         uint8_t mk;         /* measurement kind, MK_* */
         uint8_t linear;     /* <sh> == 1 */
         int32_t cr, lp, ln, mf;
-        /* writers: axis.c supervise.c */
         uint8_t in_eval;    /* evaluate the inputs at the next tick even if unchanged */
-        /* writers: axis.c */
         uint16_t sw_en;     /* AX_IN bits of the switches that are configured */
         uint16_t sw_inv;    /* ... and those that are high active */
     };

@@ -64,12 +64,12 @@ FW_INLINE void axis_inputs(unsigned n)
     if (in == x->in && !x->in_eval)
         return;
     x->in = in;
-    x->in_eval = 0;
+    axis_inputs_evaluated(x, 0);                  /* axis.h */
     axis_inputs_enc(x, in);                       /* SSI: J1's Gray code status, from basic init on */
     if (!axis_initialised(n))
         return;                                   /* switches count after INIT (4.9) */
     uint16_t active = (uint16_t)((in ^ x->sw_inv) & x->sw_en);
-    x->in_eval = (active & AX_IN_DF) != 0;
+    axis_inputs_evaluated(x, (active & AX_IN_DF) != 0);   /* a drive fault: again next time */
     uint32_t sw = sw_ustat[active & 7u];
     uint32_t prev = x->ustat;
     x->ustat = (x->ustat & ~(UB(HWL_P) | UB(HWL_N) | UB(REF))) | sw;
