@@ -9,6 +9,7 @@
 #include "fw.h"
 #include "hal.h"
 #include "card.h"
+#include "axis.h"
 #include "cmd.h"
 #include "params.h"
 #include "serial.h"
@@ -46,8 +47,8 @@ void card_reset(void)
         axis_outputs_reset(n);
         axis_t *x = &axes[n];
         *x = (axis_t){0};
-        x->next_mode = NO_MODE;
-        x->mk_tick = MK_NONE;
+        axis_select_mode(x, NO_MODE);
+        axis_measure_off(x);
         x->ustat = UB(ON_FLY);                    /* on-fly after switch-on (5.15) */
         axis_set_mode(n, M_DISABLE);
         motion_hold(n);

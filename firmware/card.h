@@ -9,31 +9,36 @@
 
 /* One object per axis, in parts.  Each part says who writes it and when;
  * "masked" is with interrupts masked (hal_irq_save), which every main-loop
- * writer of a part the tick reads holds.  A part with two writers is a
- * hand-over between them, and says which side writes what.  The
- * `writers:` line before a part or a field names every file that writes it
- * (its inline code: the header); make arch-check fails on any other
- * (tools/onewriter.py, tools/onewriter.allow, docs/hardening.md). */
+ * writer of a part the tick reads holds.  The `writers:` line before a
+ * part or a field names every file that writes it (its inline code: the
+ * header); make arch-check fails on any other, and on a part written by
+ * more than one module (a .c file and its own header, axis.c and axis.h)
+ * that tools/onewriter.allow does not explain: such a part is a hand-over
+ * between them, and says which side writes what.  The others write a
+ * part through its owner's functions (tools/onewriter.py,
+ * docs/hardening.md). */
 typedef struct {
     /* status (7.1): the stages set and clear their own bits through
      * axis.c (axis_set_mode, axis_error) and the commands (cmd*.c); the
      * supervision (supervise.c, motion_supervise.c) its switch and fault
      * bits, masked */
     /* writers: axis.c card.c cmd.c cmd_general.c ext_comp.c ext_compare.c stp_motion.h
-     * motion_justify.c motion_profile.c motion_supervise.c stepper.c supervise.c ssi_card.h
+     * motion.c motion_justify.c motion_profile.c motion_supervise.c stepper.c supervise.c
+     * ssi_card.h
      * (bit by bit: status.def USTAT_BY/SSTAT_BY) */
     struct {
         uint32_t ustat;     /* user status, manual 7.1.1 (RBS); bits 0-7 = mode */
         uint32_t sstat;     /* system status, manual 7.1.2 (RSS) */
-        /* writers: axis.c cmd.c */
-        uint16_t err_report;/* error code to give as the answer to the next command, 0 none */
+        /* writers: axis.c axis.h */
+        uint16_t err_report;/* error code to give as the answer to the next command, 0 none:
+                             * axis_error sets it, axis_error_reported clears it once given */
     };
-    /* axis state: axis.c alone writes the mode (axis_set_mode); next_mode is
-     * the commands' (cmd_general.c), cleared by a stop or a disable */
+    /* axis state: axis.c alone writes the mode (axis_set_mode) and
+     * next_mode (axis.h axis_select_mode: a mode command, cleared by E,
+     * INIT, DEINIT, a stop bit, a disable and a reset) */
     struct {
-        /* writers: axis.c */
+        /* writers: axis.c axis.h */
         uint8_t mode;       /* mode in force (M_*) */
-        /* writers: cmd_general.c axis.c card.c supervise.c */
         uint8_t next_mode;  /* mode selected for the next E, or NO_MODE */
     };
     /* outputs: the shadow of AX_CTRL is written with every write of the
@@ -46,12 +51,14 @@ typedef struct {
         int16_t out;        /* DAC word (INC/SSI) or step rate (STP) */
     };
     /* position measurement: the tick writes meas, raw and counter (measure.h,
-     * stepper.c's increment conversion); the supervision after it the rest
-     * (supervise.c: vel, meas_sup, mk_tick, RED's raw on the counter path);
-     * pos is the main loop's (axis_set_pos); a compensation table
-     * (ext_comp.c) moves meas, meas_sup and pos together, masked */
+     * stepper.c's increment conversion); the supervision after it vel and
+     * RED's raw on the counter path (supervise.c); pos, meas_sup and mk_tick
+     * are axis.c's (axis_set_pos; axis.h's axis_supervised_at and
+     * axis_follow_init, which the supervision inlines, and axis_measure_off
+     * at a reset and INIT); a compensation table (ext_comp.c) moves meas, and
+     * meas_sup and pos with it (axis.h axis_moved_by), masked */
     struct {
-        /* writers: axis.c measure.h ext_comp.c */
+        /* writers: axis.c axis.h measure.h */
         int32_t pos;        /* actual position: measured + <ao> (RCP) */
         /* writers: measure.c measure.h stepper.c ext_comp.c */
         int32_t meas;       /* measured position without offset */
@@ -61,9 +68,9 @@ typedef struct {
         uint32_t counter;   /* last processed counter content (RCT) */
         /* writers: supervise.c measure.c */
         int32_t vel;        /* actual velocity per servo period (RAV) */
-        /* writers: supervise.c motion.c ext_comp.c */
+        /* writers: axis.h */
         int32_t meas_sup;   /* meas at the last supervision: RAV of the counter path */
-        /* writers: supervise.c card.c cmd_general.c ext_comp.c */
+        /* writers: axis.h */
         uint8_t mk_tick;    /* what the tick measures: mk once initialised, else MK_NONE (card_supervise) */
     };
     /* the setpoint and following error the tick used: the supervision's on
@@ -135,26 +142,36 @@ typedef struct {
         uint8_t servo_path;
     };
     /* the mode's motion: the motion files' (motion*.c, main loop; stepper.c
-     * the STP's creep phase), masked where the tick reads them */
+     * the STP's creep phase), masked where the tick reads them.  motion.c
+     * sets up the target and the settling time at E (motion_start); the
+     * profile generator, the justification modes and the supervision's
+     * index latch move the mode's progress on through motion_priv.h
+     * (mode_done, edge_found, index_latched, trt_count_step); the phase is
+     * the justification modes' (motion_justify.c) and the STP's creep's
+     * (stepper.c), motion.c zeroes it at E */
     struct {
-        /* writers: motion.c motion_profile.c motion_justify.c motion_supervise.c stepper.c */
+        /* writers: motion.c motion_priv.h */
         int64_t target;     /* positioning target */
-        int32_t edge;       /* justification: position of the edge / index found */
-        uint8_t phase;      /* phase of a justification mode */
-        uint8_t done;       /* the move of the current mode is complete */
-        uint8_t idx_seen;   /* index latched during a search */
-        uint16_t trt_count;
-        uint16_t trt_periods;
+        int32_t edge;       /* justification: position of the edge / index found (edge_found) */
+        /* writers: motion.c motion_justify.c stepper.c */
+        uint8_t phase;      /* phase of a justification mode (STP: of the creep) */
+        /* writers: motion.c motion_priv.h */
+        uint8_t done;       /* the move of the current mode is complete (mode_done) */
+        uint8_t idx_seen;   /* index latched during a search (motion_priv.h index_latched) */
+        uint16_t trt_count; /* SP in the target window so far (trt_count_step, _reset) */
+        uint16_t trt_periods;   /* <trt> in SP, in the target window before pos_end (5.6) */
     };
-    /* a protective stop: motion.c begins it (motion_emergency), the
-     * supervision watches and ends it (motion_supervise.c stop_watch,
-     * stop_done); axis.c clears it at a disable.  INC/SSI: a stop that ends
-     * only with the mechanics at rest under closed-loop control, with its
-     * runaway guards */
+    /* a protective stop: motion.c's, which begins it (motion_emergency),
+     * watches it after every tick and ends it (motion_priv.h stop_watch,
+     * inline in the supervision; stop_done, which the supervision and the
+     * profile generator call); axis.c clears it at a disable.  INC/SSI:
+     * a stop that ends only with the mechanics at rest under closed-loop
+     * control, with its runaway guards */
     struct {
-        /* writers: motion.c motion_supervise.c axis.c */
+        /* writers: motion.c axis.c */
         uint8_t stop_then;  /* protective stop in progress: STOP_* */
         uint8_t stop_settle;    /* wait for the mechanics at rest before STOP_DISABLE/DEINIT */
+        /* writers: motion.c motion_priv.h */
         uint8_t stop_rest;      /* supervised ticks in a row with |RAV| <= STOP_REST_VEL */
         uint16_t stop_ticks;    /* supervised ticks since the stop began */
         uint16_t stop_limit;    /* time bound in ticks, set when the setpoint ramp ends (brake_done) */
@@ -169,9 +186,10 @@ typedef struct {
     /* the profile generator's Q16 velocities per SP of the common modes
      * (vq() of <pv>, <pa>, <pd>, <ed>), recomputed only when par_a or TURBO
      * changed; q_free: prof_free_distance(<pv>, <pd>).  motion.c's alone
-     * (vq_compute), main loop */
+     * (vq_compute), main loop; the positioning steps read q_l32 through a
+     * const pointer (tools/onewriter.allow) */
     struct {
-        /* writers: motion.c motion_profile.c servo_motion.h */
+        /* writers: motion.c */
         int64_t q_pv, q_pa, q_pd, q_ed, q_free;
         int64_t q_hi, q_lo; /* target -/+ max(q_free, q_pv) when <pv> and <pa> fit 32 bits (prof_cruise32) */
         uint8_t q_fast;     /* ... and then prof_cruise32 applies */
@@ -189,16 +207,16 @@ typedef struct {
     servo_state_t servo;
     /* the tick's and the supervision's copies of parameters, prepared by
      * axis.c (axis_prepare, axis_prepare_mode) at INIT and E so that neither
-     * looks one up; a compensation table (ext_comp.c) switches mk; in_eval
-     * is cleared by the supervision once it has looked at the inputs */
+     * looks one up; a compensation table switches mk through axis.h
+     * (axis_kind_relative, axis_kind_restore); in_eval is set by axis.c
+     * and cleared by the supervision once it has looked at the inputs
+     * (axis.h axis_inputs_evaluated, inline there) */
     struct {
-        /* writers: axis.c ext_comp.c */
+        /* writers: axis.c axis.h */
         uint8_t mk;         /* measurement kind, MK_* */
         uint8_t linear;     /* <sh> == 1 */
         int32_t cr, lp, ln, mf;
-        /* writers: axis.c supervise.c */
         uint8_t in_eval;    /* evaluate the inputs at the next tick even if unchanged */
-        /* writers: axis.c */
         uint16_t sw_en;     /* AX_IN bits of the switches that are configured */
         uint16_t sw_inv;    /* ... and those that are high active */
     };
@@ -218,7 +236,7 @@ typedef struct {
 #define STOP_DISABLE 2  /* emergency ramp <ed>, at rest, then disable */
 #define STOP_DEINIT 3   /* DEINIT: stop with <ed>, at rest, disable, clear init (4.9) */
 
-/* The end of a stop that disables (INC/SSI, motion_supervise.c stop_watch): the
+/* The end of a stop that disables (INC/SSI, motion_priv.h stop_watch): the
  * mechanics at rest, |RAV| <= STOP_REST_VEL for STOP_REST_TICKS ticks in a
  * row, at most 2 x the setpoint ramp's ticks + STOP_SETTLE_TICKS after the
  * stop began; /EN opens at once if |RFE| exceeds its value at the start of
@@ -307,6 +325,7 @@ void axis_init_measurement(unsigned n);    /* INIT: derive ea/eb/ec, zero relati
 void axis_prepare(unsigned n);             /* main loop: refresh the tick's copies */
 void axis_prepare_mode(unsigned n);        /* ... of the mode parameters alone (E, initialised) */
 void axis_set_pos(unsigned n);             /* main loop: pos from meas and <ao>, wrapped */
+/* axis.h: the writes of axis.c's parts that the commands, the supervision and the extensions make, inline */
 
 /* VMEbus interrupts (4.6): vector 0 = off. */
 void vme_irq(uint8_t vector);

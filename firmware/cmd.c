@@ -20,6 +20,7 @@
 #include "fw.h"
 #include "hal.h"
 #include "card.h"
+#include "axis.h"
 #include "cmd.h"
 #include "params.h"
 #include "serial.h"
@@ -166,11 +167,11 @@ static __attribute__((noinline)) void execute_slow(const mac4_msg_t *in, mac4_ms
         if (card_err_report)
             card_err_report = 0;
         else
-            x->err_report = 0;
+            axis_error_reported(x);
         out->code = code;
         out->param = is_card_error(code) ? card_ostat : x->ustat;
         if (c.kind == CK_GEN && c.arg == CI_C) {
-            x->err_report = 0;                    /* both of this axis' reports: one C */
+            axis_error_reported(x);               /* both of this axis' reports: one C */
             (void)cmd_execute_other(c, a, in->param);
         }
         return;

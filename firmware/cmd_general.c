@@ -8,6 +8,7 @@
 #include "fw.h"
 #include "hal.h"
 #include "card.h"
+#include "axis.h"
 #include "cmd.h"
 #include "cmd_table.h"
 #include "params.h"
@@ -140,7 +141,7 @@ static __attribute__((noinline)) int do_execute(unsigned a)
         return ERR_LOGICAL;
     if (!init)
         axis_prepare(a);
-    axes[a].next_mode = NO_MODE;
+    axis_select_mode(&axes[a], NO_MODE);
     /* pos_end, jus_end and LED P are cleared only by the next E (5.6) */
     axes[a].ustat &= ~(UB(POS_END) | UB(JUS_END));
     axes[a].sstat &= ~SB(IN_POS);
@@ -175,7 +176,7 @@ static int do_init(unsigned a)
      * written values, which no interrupt reads on a disabled axis but one at
      * a time in a single move (<irq6>, <irq5>): unmasked on every card. */
     if (!CARD_INIT_MASKED)
-        axes[a].mk_tick = MK_NONE;               /* the servo tick leaves the axis alone */
+        axis_measure_off(&axes[a]);             /* the servo tick leaves the axis alone */
     cmd_unmask();
     params_activate(a, PK_SYS);
     params_activate(a, PK_MODE);
@@ -185,7 +186,7 @@ static int do_init(unsigned a)
     if (CARD_INIT_MASKED)
         axis_init_measurement(a);
     axes[a].ustat |= UB(INIT);
-    axes[a].next_mode = NO_MODE;
+    axis_select_mode(&axes[a], NO_MODE);
     return 0;
 }
 
@@ -203,7 +204,7 @@ static int do_general(int ci, unsigned a, uint32_t p)
         } else {
             motion_emergency(a, STOP_DEINIT);
         }
-        axes[a].next_mode = NO_MODE;
+        axis_select_mode(&axes[a], NO_MODE);
         return 0;
     case CI_MR:
         if (!(hal_rd16(SYS_STATUS) & SYS_ST_J11))
@@ -264,7 +265,7 @@ uint16_t cmd_execute_other(cmd_t c, unsigned a, uint32_t param)
     if ((x->ustat & US_ERRORS) || (card_ostat & (OB(AXIS_F) | OB(WATCH_F) | OB(H_STOP))))
         return ERR_LOGICAL;                       /* 6.3.7: error not acknowledged */
     if (c.kind == CK_MODE) {
-        x->next_mode = c.arg;
+        axis_select_mode(x, c.arg);
         return 0;
     }
     if (c.kind == CK_WPAR)

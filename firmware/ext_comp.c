@@ -20,6 +20,7 @@
 #include "hal.h"
 #include "mul16.h"
 #include "card.h"
+#include "axis.h"
 #include "params.h"
 #include "measure.h"
 #include "crc16.h"
@@ -156,16 +157,11 @@ static void track_relative(unsigned n, int on)
             return;
         c->abs = 0;
         t->mk_saved = x->mk;
-        if (x->mk == MK_SSI_ABS)
-            x->mk = MK_SSI;
-        if (x->mk_tick == MK_SSI_ABS)
-            x->mk_tick = MK_SSI;
+        axis_kind_relative(x);
     } else if (t->abs_saved) {
         t->abs_saved = 0;
         c->abs = 1;
-        x->mk = t->mk_saved;
-        if (x->mk_tick != MK_NONE)
-            x->mk_tick = t->mk_saved;
+        axis_kind_restore(x, t->mk_saved);
     }
 }
 
@@ -173,15 +169,7 @@ static inline void correct_by(unsigned n, int32_t d)
 {
     axis_t *x = axis_at[n];
     x->meas = pos_add(x->meas, d);
-    x->meas_sup = pos_add(x->meas_sup, d);       /* RAV: the motion, not the correction's step */
-    int32_t pos = pos_add(x->pos, d);
-    if (!x->linear) {
-        while (pos >= x->cr)
-            pos -= x->cr;
-        while (pos < 0)
-            pos += x->cr;
-    }
-    x->pos = pos;
+    axis_moved_by(x, d);                         /* RAV and the position with it (axis.h) */
 }
 
 void ext_comp_apply(unsigned n)

@@ -1,8 +1,8 @@
 /*
  * motion.c - the modes of manual chapter 5 and the protective reactions of
  * 4.8 and 6.3, between position measurement and the output stage; this
- * file sets a mode up and begins the stops, the stages are beside it
- * (motion_priv.h lists them).
+ * file sets a mode up and owns the protective stops (begun, watched after
+ * every tick, ended), the stages are beside it (motion_priv.h lists them).
  *
  *   motion_start()        at E (main loop, interrupts masked): set a mode up
  *   motion_after_command() after a command, unmasked: the profile generator's
@@ -21,6 +21,7 @@
 #include "hal.h"
 #include "mul16.h"
 #include "card.h"
+#include "axis.h"
 #include "params.h"
 #include "motion.h"
 #include "motion_priv.h"
@@ -242,6 +243,24 @@ void motion_drive_fault(unsigned n)
     axis_at[n]->stop_settle = 0;
 }
 
+/* A protective stop has ramped down (and, if it waits for it, the mechanics
+ * stand): what follows it (4.8). */
+void stop_done(unsigned n)
+{
+    axis_t *x = axis_at[n];
+    if (x->stop_then == STOP_HOLD) {
+        axis_set_mode(n, M_BRAKE);
+    } else {
+        uint8_t then = x->stop_then;
+        axis_disable(n);
+        if (then == STOP_DEINIT)
+            x->ustat &= ~UB(INIT);
+    }
+    x->stop_then = STOP_NONE;
+    x->stop_settle = 0;
+    x->done = 1;
+}
+
 int motion_busy(unsigned n)
 {
     const axis_t *x = axis_at[n];
@@ -276,6 +295,6 @@ int axis_standstill(unsigned n)
 void axis_init_measurement(unsigned n)
 {
     measure_init(n);
-    axes[n].meas_sup = axes[n].meas;
+    axis_supervised_at(&axes[n], axes[n].meas);    /* axis.h */
     ext_axis_init(n);                            /* the extensions follow the new measurement */
 }

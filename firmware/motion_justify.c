@@ -19,7 +19,7 @@ static void justified(unsigned n, int set_zero)
     axis_t *x = axis_at[n];
     justified_card(x);                           /* the profile onto the edge (STP: not) */
     x->prof.vel = 0;
-    x->done = 1;
+    mode_done(x, 1);
     if (set_zero) {
         /* the index pulse is the axis' reference: position 0 there (4.9) */
         params_force(n, P_AO, -x->edge, PS_WRITTEN);
@@ -43,7 +43,7 @@ void justify_modes(unsigned n)
             if (x->idx_seen)
                 x->phase = 1;
         } else if (!x->done && ramp(p, 0, vq(n, PAR(n, CD)), vq(n, PAR(n, CD)))) {
-            x->done = 1;
+            mode_done(x, 1);
             x->ustat |= UB(JUS_END);
             vme_irq((uint8_t)PAR(n, IRQ4));
         }
@@ -112,7 +112,7 @@ void justify_modes(unsigned n)
             break;
         case 2:                              /* back at <lv> to the transition */
             if (!sw_active(n, bit)) {
-                x->edge = x->meas;
+                edge_found(x, x->meas);
                 justified(n, 0);
                 x->phase = 3;
             } else {

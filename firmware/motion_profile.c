@@ -127,10 +127,10 @@ void pos_end_check(unsigned n)
             pos_end_card(x);                     /* STP: IN_POS, 7.1.2 (LED P) */
             vme_irq((uint8_t)PAR(n, IRQ4));
         } else {
-            x->trt_count++;
+            trt_count_step(x);
         }
     } else {
-        x->trt_count = 0;
+        trt_count_reset(x);
     }
 }
 
@@ -151,7 +151,7 @@ static void __attribute__((noinline)) position_fit_step(axis_t *x, unsigned n)
         next_segment(x, before);
     }
     if (landed) {
-        x->done = 1;
+        mode_done(x, 1);
         pos_end_check(n);
     }
 }
@@ -219,7 +219,7 @@ static void profile_modes(unsigned n)
         switch (x->mode) {
         case M_ENABLE:                           /* hold; UE from a move: stop with <pd> */
         case M_BRAKE:
-            x->done = (uint8_t)ramp(p, 0, x->q_pd, x->q_pd);
+            mode_done(x, ramp(p, 0, x->q_pd, x->q_pd));
             break;
         case M_RESET:                            /* 4.8.2: emergency ramp, at rest, then disable */
             motion_emergency(n, STOP_DISABLE);   /* the tick brakes (brake_now) */
@@ -244,7 +244,7 @@ static void profile_modes(unsigned n)
         }
         case M_POSITIONING:
             if (!x->done && position_card(x, n))  /* STP: then the creep phase (diagram 5.2) */
-                x->done = 1;
+                mode_done(x, 1);
             if (x->done && !(x->ustat & UB(POS_END)))
                 pos_end_check(n);
             break;

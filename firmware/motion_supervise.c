@@ -1,9 +1,9 @@
 /*
  * motion_supervise.c - the profile generator's side of the supervision
  * after every tick (supervise.c calls motion_supervise unless motion_quiet):
- * the index latch of the searches, the protective reactions (4.8, 6.3) and
- * the end of a protective stop, with the guards of a stop that waits for
- * the mechanics at rest.
+ * the index latch of the searches and the protective reactions (4.8, 6.3);
+ * the end of a protective stop and its guards are motion.c's, which owns
+ * the stop (stop_done; motion_priv.h stop_watch, inlined here).
  */
 #include "fw.h"
 #include "hal.h"
@@ -12,76 +12,6 @@
 #include "params.h"
 #include "motion.h"
 #include "motion_priv.h"
-
-/* A protective stop has ramped down (and, if it waits for it, the mechanics
- * stand): what follows it (4.8). */
-void stop_done(unsigned n)
-{
-    axis_t *x = axis_at[n];
-    if (x->stop_then == STOP_HOLD) {
-        axis_set_mode(n, M_BRAKE);
-    } else {
-        uint8_t then = x->stop_then;
-        axis_disable(n);
-        if (then == STOP_DEINIT)
-            x->ustat &= ~UB(INIT);
-    }
-    x->stop_then = STOP_NONE;
-    x->stop_settle = 0;
-    x->done = 1;
-}
-
-/* After every tick of a stop that waits for the mechanics (stop_settle):
- * the loop brakes them to rest and holds the braked setpoint; the axis is
- * disabled once the measured speed has stayed near 0 for STOP_REST_TICKS.
- * The guards against a loop that cannot stop them (6.3.9: a reversed or
- * frozen encoder, a motor that cannot follow <ed>): /EN opens at once, with
- * ferr_f and 163, when the following error grows beyond its value at the
- * start of the stop plus <mf>/2, or beyond that value in STOP_GROW_TICKS
- * ticks in a row without the mechanics slowing down, when the axis measures no motion with more than <mf>
- * still to go, or when twice the ticks of the setpoint's ramp plus
- * STOP_SETTLE_TICKS have passed.  1: the stop has ended. */
-static int stop_watch(axis_t *x, unsigned n)
-{
-    if (x->stop_ticks < UINT16_MAX)
-        x->stop_ticks++;
-    int32_t e = x->ferr < 0 ? -x->ferr : x->ferr, av = x->vel < 0 ? -x->vel : x->vel;
-    /* growing instead of shrinking: beyond its start, tick after tick, and
-     * the mechanics not slowing down (an overshoot slows down; a loop with
-     * its sign reversed speeds up or runs at its limit) */
-    if (e > x->stop_f0 && e > x->stop_flast + STOP_REST_VEL && av + STOP_REST_VEL >= x->stop_vlast)
-        x->stop_grow++;
-    else
-        x->stop_grow = 0;
-    x->stop_flast = e;
-    x->stop_vlast = av;
-    int over = e > x->stop_fmax || x->stop_grow >= STOP_GROW_TICKS;
-    if (!over && x->braking)
-        return 0;                                /* the setpoint's ramp runs */
-    if (!over) {
-        int32_t v = x->vel;
-        if (v <= STOP_REST_VEL && v >= -STOP_REST_VEL) {
-            /* standing with more than <mf> to go: the feedback does not follow
-             * the output (frozen or stuck encoder, a jammed motor) */
-            over = e > x->mf;
-            if (!over && ++x->stop_rest >= STOP_REST_TICKS) {
-                stop_done(n);                    /* at rest: now disable */
-                return 1;
-            }
-        } else {
-            x->stop_rest = 0;
-        }
-        if (!over && x->stop_ticks <= x->stop_limit)
-            return 0;
-    }
-    /* runaway or too slow: open /EN now, a following error - but not a
-     * second one when the stop is the following error's own reaction: that
-     * was raised once, and a C during the braking has acknowledged it */
-    if (!x->stop_ferr)
-        axis_error(n, UB(FERR_F), ERR_LOGICAL);
-    stop_done(n);
-    return 1;
-}
 
 /* ---- after every tick, in the main loop --------------------------------
  * What the tick measured, checked before the main loop does anything else
@@ -110,8 +40,7 @@ void motion_supervise(unsigned n)
         uint32_t hi = hal_rd16(AX_REG(n, AX_IDX_HI));
         uint32_t raw = (hi << 16) | hal_rd16(AX_REG(n, AX_IDX_LO));
         int32_t d = (int32_t)((raw - x->counter) << 8) >> 8;   /* 24-bit counter */
-        x->edge = index_edge_card(x, n, d);      /* STP: increments -> steps */
-        x->idx_seen = 1;
+        index_latched(x, index_edge_card(x, n, d));   /* STP: increments -> steps */
     }
 
     /* protective reactions (4.8, 6.3) */
@@ -119,8 +48,7 @@ void motion_supervise(unsigned n)
         int32_t mf = x->mf;
         if (x->ferr > mf || x->ferr < -mf) {     /* 4.8.1, 6.3.9 */
             axis_error(n, UB(FERR_F), ERR_LOGICAL);
-            motion_emergency(n, STOP_DISABLE);
-            x->stop_ferr = 1;                    /* raised once: its guard raises nothing more */
+            motion_emergency_ferr(n);            /* raised once: its guard raises nothing more */
         } else if (x->linear && (x->pos > x->lp || x->pos < x->ln)) {
             x->ustat |= x->pos > x->lp ? UB(SWL_P) : UB(SWL_N);
             axis_error(n, UB(LOGO_F), ERR_LOGICAL);   /* 4.3.1.1: braked and disabled; C first (6.3) */

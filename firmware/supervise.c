@@ -12,6 +12,7 @@
 #include "hal.h"
 #include "mul16.h"
 #include "card.h"
+#include "axis.h"
 #include "cmd.h"
 #include "params.h"
 #include "serial.h"
@@ -38,7 +39,7 @@ static void stop_bits(void)
             axis_disable(n);                      /* test mode: disable */
         else if (x->mode != M_DISABLE) {
             axis_set_mode(n, M_BRAKE);
-            x->next_mode = NO_MODE;
+            axis_select_mode(x, NO_MODE);
             motion_brake(n);                      /* from the next tick on */
         }
     }
@@ -63,12 +64,12 @@ FW_INLINE void axis_inputs(unsigned n)
     if (in == x->in && !x->in_eval)
         return;
     x->in = in;
-    x->in_eval = 0;
+    axis_inputs_evaluated(x, 0);                  /* axis.h */
     axis_inputs_enc(x, in);                       /* SSI: J1's Gray code status, from basic init on */
     if (!axis_initialised(n))
         return;                                   /* switches count after INIT (4.9) */
     uint16_t active = (uint16_t)((in ^ x->sw_inv) & x->sw_en);
-    x->in_eval = (active & AX_IN_DF) != 0;
+    axis_inputs_evaluated(x, (active & AX_IN_DF) != 0);   /* a drive fault: again next time */
     uint32_t sw = sw_ustat[active & 7u];
     uint32_t prev = x->ustat;
     x->ustat = (x->ustat & ~(UB(HWL_P) | UB(HWL_N) | UB(REF))) | sw;
@@ -139,8 +140,8 @@ FW_INLINE void supervise_axis(unsigned n, unsigned ph)
         x->vel = pos_sub(x->meas, x->meas_sup);
     if (x->mk_tick == MK_COUNTER)                 /* RED: the counter path keeps only the counter */
         x->raw = x->counter;
-    x->meas_sup = x->meas;
-    x->mk_tick = (x->ustat & UB(INIT)) ? x->mk : MK_NONE;
+    axis_supervised_at(x, x->meas);               /* axis.h: the parts axis.c writes */
+    axis_follow_init(x);
     axis_inputs(n);
     if (!motion_quiet(x))
         motion_supervise(n);

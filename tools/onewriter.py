@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""onewriter.py - each part of axis_t has its declared writers, each status
-bit the files status.def names, and only the parameter store writes the
-parameters (`make arch-check`, part of `make test`).
+"""onewriter.py - each part of axis_t has its declared writers and one
+writer module, each status bit the files status.def names, and only the
+parameter store writes the parameters (`make arch-check`, part of `make test`).
 
-    tools/onewriter.py [--root DIR] [--list]
+    tools/onewriter.py [--root DIR] [--list] [--parts]
 
 A C-aware scan of firmware/*.c and *.h (comments and strings left out):
 
@@ -17,7 +17,19 @@ A C-aware scan of firmware/*.c and *.h (comments and strings left out):
   A file a part names that writes none of its fields fails (stale), so
   the lines stay true as code moves.
   tools/onewriter.allow lists the other writes a part has on purpose:
-  `FIELD FILE  # why`; an entry that matches no write fails (stale);
+  `FIELD FILE  # why`, and `FIELD FILE read  # why` where the address is
+  taken for a const pointer (a read: FILE is no writer); an entry that
+  matches no write fails (stale);
+* one writer module per part: a module is a .c file with its own header
+  (motion.c and motion.h; a private header callgraph.py's HEADER_OWNER
+  names, motion_priv.h) - a header whose stem has no .c (tick.h,
+  servo_card.h) and the shared headers (callgraph.py's SHARED_HEADERS:
+  card.h, stepper.h) are modules of their own, as in the call graph.  A
+  part whose writers are more than one module fails unless
+  tools/onewriter.allow explains it: `part FIELD  # why` (any field of the
+  part; the reason is required); an entry for a part with one writer
+  module fails (stale).  The status words ustat and sstat are owned bit by
+  bit instead (status.def, below): their part is left out of this rule;
 * the status bits (status.def USTAT_BY / SSTAT_BY "sets" "clears"): a
   statement that writes ustat or sstat (or a local it is then assigned
   from), or calls axis_error, sets the UB()/SB() bits it names and clears
@@ -29,13 +41,18 @@ Limits: an alias other than a declared `axis_t *` (a part's own pointer,
 `prof_t *p = &x->prof`, is seen as the address taken) and writes through
 memcpy/memset of a whole axis are not told apart from the owner's.
 
-Exit 1 with one line per undeclared write; 2 on a setup error."""
+--parts prints each part with its writer files by module.  Exit 1 with
+one line per undeclared write or part of several writers; 2 on a setup
+error."""
 import argparse
 import os
 import re
 import sys
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from callgraph import HEADER_OWNER, SHARED_HEADERS  # noqa: E402  (one definition of a module)
+STATUS_WORDS = ("ustat", "sstat")   # owned bit by bit (status.def), not by part
 PARAM_STORE = ("firmware/params.c", "firmware/params.h")
 PARAM_ARRAYS = ("par_a", "par_w", "par_gen")
 ASSIGN = r"(?:\s*\[[^\]]*\])*(?:\s*(?:\.|->)\s*\w+(?:\s*\[[^\]]*\])*)*\s*(?:[-+*/%&|^]|<<|>>)?=(?!=)"
@@ -208,29 +225,53 @@ def declared_bits(status_def):
     return out
 
 
+def module(root, path):
+    """The module a firmware file is part of: firmware/X.c and its own
+    header X.h are X; a header without a .c of its stem, or a shared one,
+    is a module of its own (its file name)."""
+    path = HEADER_OWNER.get(path, path)
+    if path.endswith(".h") and path not in SHARED_HEADERS and \
+            os.path.exists(os.path.join(root, path[:-2] + ".c")):
+        path = path[:-2] + ".c"
+    return os.path.basename(path[:-2]) if path.endswith(".c") else os.path.basename(path)
+
+
 def read_allow(path):
-    """[(field, file, line)] of the allowlist."""
-    out = []
+    """([(field, file, line)] of the writes on purpose, [(field, file, line)]
+    of the const-pointer reads, [(field, line)] of the parts of several
+    writers) of the allowlist."""
+    writes, reads, several = [], [], []
     if not os.path.exists(path):
-        return out
+        return writes, reads, several
     for n, line in enumerate(open(path), 1):
-        line = line.split("#", 1)[0].split()
-        if line:
-            if len(line) != 2:
-                raise ValueError("%s:%d: want FIELD FILE  # why" % (path, n))
-            out.append((line[0], line[1], n))
-    return out
+        words, _, why = line.partition("#")
+        words = words.split()
+        if not words:
+            continue
+        if words[0] == "part":
+            if len(words) != 2 or not why.strip():
+                raise ValueError("%s:%d: want part FIELD  # why" % (path, n))
+            several.append((words[1], n))
+        elif len(words) == 3 and words[2] == "read":
+            reads.append((words[0], words[1], n))
+        elif len(words) == 2:
+            writes.append((words[0], words[1], n))
+        else:
+            raise ValueError("%s:%d: want FIELD FILE [read]  # why, or part FIELD  # why" % (path, n))
+    return writes, reads, several
 
 
-def check(root, listing=False):
-    """The lines of the undeclared writes (empty: the tree keeps the rule)."""
+def check(root, listing=False, report=None):
+    """The lines of the undeclared writes and of the parts of several
+    writer modules (empty: the tree keeps the rule); report, when given,
+    gets a line per part: its fields and writer files by module."""
     part_line = {}
     fields, bad = parts(os.path.join(root, "firmware", "card.h"), part_line)
     if fields is None:
         return bad
     wrote = set()                   # (card.h line of the part, file)
     allow_path = os.path.join(root, "tools", "onewriter.allow")
-    allow = read_allow(allow_path)
+    allow, allow_read, allow_part = read_allow(allow_path)
     used = set()
     masks = bit_masks(os.path.join(root, "firmware", "status.h"))
     decl = declared_bits(os.path.join(root, "firmware", "status.def"))
@@ -244,6 +285,11 @@ def check(root, listing=False):
                 wrote.add((part_line.get(f), p))
                 continue
             ok = [a for a in allow if a[0] == f and a[1] == p]
+            if ok:
+                used.update(ok)
+                wrote.add((part_line.get(f), p))
+                continue
+            ok = [a for a in allow_read if a[0] == f and a[1] == p]
             if ok:
                 used.update(ok)
                 continue
@@ -266,9 +312,38 @@ def check(root, listing=False):
             if (ln, p) not in wrote:
                 bad.append("firmware/card.h:%d: %s is named a writer of the part but writes none of it (stale)"
                            % (ln, p))
-    for a in allow:
+    for a in allow + allow_read:
         if a not in used:
             bad.append("tools/onewriter.allow:%d: %s %s matches no write (stale)" % (a[2], a[0], a[1]))
+    # one writer module per part, the status words apart (bit by bit)
+    explained = {}
+    for f, n in allow_part:
+        if f not in part_line:
+            bad.append("tools/onewriter.allow:%d: part %s: no such field of axis_t" % (n, f))
+        else:
+            explained.setdefault(part_line[f], []).append((f, n))
+    for ln in sorted(set(part_line.values())):
+        names = [f for f in fields if part_line.get(f) == ln]
+        files = sorted(p for (l2, p) in wrote if l2 == ln)
+        mods = {}
+        for p in files:
+            mods.setdefault(module(root, p), []).append(os.path.basename(p))
+        status = all(f in STATUS_WORDS for f in names)
+        note = ("bit by bit (status.def)" if status else
+                "explained (tools/onewriter.allow)" if ln in explained and len(mods) > 1 else "")
+        if report is not None:
+            report.append("firmware/card.h:%d: %s: %s%s" % (
+                ln, " ".join(names), ", ".join("%s (%s)" % (m, " ".join(v)) for m, v in sorted(mods.items())),
+                "  [%s]" % note if note else ""))
+        if status:
+            continue
+        if len(mods) > 1 and ln not in explained:
+            bad.append("firmware/card.h:%d: part %s has %d writer modules (%s): one owns it and the others "
+                       "call it, or tools/onewriter.allow explains it (part %s  # why)"
+                       % (ln, names[0], len(mods), " ".join(sorted(mods)), names[0]))
+        if len(mods) <= 1:
+            for f, n in explained.get(ln, []):
+                bad.append("tools/onewriter.allow:%d: part %s has one writer module (stale)" % (n, f))
     for (k, b), d in sorted(decl.items()):
         for how in ("sets", "clears"):
             for p in sorted(d[how]):
@@ -281,15 +356,19 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--root", default=ROOT)
     ap.add_argument("--list", action="store_true", help="print every write found")
+    ap.add_argument("--parts", action="store_true", help="print each part's writer files by module")
     a = ap.parse_args(argv)
     if not os.path.isfile(os.path.join(a.root, "firmware", "card.h")):
         print("onewriter: no firmware/card.h under %s" % a.root, file=sys.stderr)
         return 2
+    report = [] if a.parts else None
     try:
-        bad = check(a.root, a.list)
+        bad = check(a.root, a.list, report)
     except (OSError, ValueError) as e:
         print("onewriter: %s" % e, file=sys.stderr)
         return 2
+    for r in report or []:
+        print(r)
     for b in bad:
         print("onewriter: " + b)
     return 1 if bad else 0
