@@ -26,8 +26,8 @@
 FW_INLINE int32_t edge_of(const axis_t *x, const stp_t *s, unsigned n, int32_t d)
 {
     if (stp_conv & (1u << n))
-        return stp_scale_call(s->inc + d, s->ratio);   /* a creep's start, an index: a call */
-    return x->meas + ((x->ustat & UB(REV_O)) ? -d : d);
+        return stp_scale_call(pos_add(s->inc, d), s->ratio);   /* a creep's start, an index: a call */
+    return pos_add(x->meas, (x->ustat & UB(REV_O)) ? -d : d);
 }
 
 int32_t stp_edge(unsigned n, int32_t d) { return edge_of(&axes[n], &stp_ax[n], n, d); }
