@@ -191,6 +191,7 @@ typedef struct {
     struct {
         /* writers: motion.c */
         int64_t q_pv, q_pa, q_pd, q_ed, q_free;
+        int32_t q_pd_t, q_ed_t;   /* <pd>, <ed> per tick^2 (>= 1): the tick's brake (brake_now) */
         int64_t q_hi, q_lo; /* target -/+ max(q_free, q_pv) when <pv> and <pa> fit 32 bits (prof_cruise32) */
         uint8_t q_fast;     /* ... and then prof_cruise32 applies */
         uint8_t q_fit;      /* <pv>, <pa>, <pd> below 2^30: prof_step32 with q_l32 */

@@ -30,6 +30,14 @@
 
 /* vq(): the card variant's (servo_motion.c, stp_motion.c). */
 
+/* A deceleration per SP^2 as the tick's brake takes it: per tick^2 (/16),
+ * at least 1. */
+static int32_t dec_per_tick(int64_t dec_sp)
+{
+    int64_t dec = dec_sp >> 4;
+    return dec < 1 ? 1 : dec > INT32_MAX ? INT32_MAX : (int32_t)dec;
+}
+
 void vq_compute(unsigned n)
 {
     axis_t *x = axis_at[n];
@@ -37,6 +45,8 @@ void vq_compute(unsigned n)
     x->q_pa = vq(n, PAR(n, PA));
     x->q_pd = vq(n, PAR(n, PD));
     x->q_ed = vq(n, PAR(n, ED));
+    x->q_pd_t = dec_per_tick(x->q_pd);
+    x->q_ed_t = dec_per_tick(x->q_ed);
     x->q_free = prof_free_distance(x->q_pv, x->q_pd);
     x->q_fit = x->q_pv < (1l << 30) && x->q_pa < (1l << 30) && x->q_pd < (1l << 30);
     if (x->q_fit)
@@ -95,13 +105,11 @@ void motion_hold(unsigned n)
 }
 
 /* Start the tick's own braking ramp now (interrupts masked): from the last
- * tick's setpoint at the speed of the SP under way, dec_sp per SP^2 (=
- * dec_sp / 16 per tick^2).  The prepared next SP is dropped; the profile
- * generator takes over again once the tick stands (motion_profile_tick). */
-static void brake_now(axis_t *x, int64_t dec_sp)
+ * tick's setpoint at the speed of the SP under way, d per tick^2
+ * (dec_per_tick).  The prepared next SP is dropped; the profile generator
+ * takes over again once the tick stands (motion_profile_tick). */
+static void brake_now(axis_t *x, int32_t d)
 {
-    int64_t dec = dec_sp >> 4;
-    int32_t d = dec < 1 ? 1 : dec > INT32_MAX ? INT32_MAX : (int32_t)dec;
     if (x->braking) {
         /* a stop during a brake (a limit switch or a following error while
          * a stop bit brakes with <pd>): the stronger ramp from here */
@@ -142,7 +150,7 @@ void brake_done(axis_t *x)
 void motion_brake(unsigned n)
 {
     vq_refresh(n);
-    brake_now(axis_at[n], axis_at[n]->q_pd);
+    brake_now(axis_at[n], axis_at[n]->q_pd_t);
 }
 
 
@@ -158,6 +166,34 @@ void motion_plan(unsigned n, motion_plan_t *p)
     motion_plan_card(n, p);                      /* servo gains, or <ssf>, <lv>, TURBO */
     /* <trt> in whole sampling periods, rounded up (5.6) */
     p->trt_periods = (uint16_t)divu16((uint32_t)PAR(n, TRT) + CARD_SP_MS - 1u, (uint16_t)CARD_SP_MS);   /* <trt> < 2^16 */
+    /* MRE's ramp (4.8.2) from the <ed> this E activates: the velocities of
+     * the new parameters are worked out after the command (vq_compute), not
+     * in its masked commit */
+    p->ed_t = dec_per_tick(vq(n, PAR(n, ED)));
+}
+
+/* A protective stop of a running axis: its guards, what follows it, and
+ * the tick's ramp with ed_t per tick^2 from the next tick on. */
+static void emergency_at(axis_t *x, uint8_t then, int32_t ed_t)
+{
+    if (x->stop_then == STOP_NONE) {
+        /* the runaway guard from the following error of the moment (stop_watch) */
+        int32_t e = x->ferr < 0 ? -x->ferr : x->ferr, m = x->mf / 2;
+        x->stop_fmax = e > INT32_MAX - m ? INT32_MAX : e + m;
+        x->stop_f0 = x->stop_flast = e;
+        x->stop_vlast = 0;
+        x->stop_grow = 0;
+        x->stop_ferr = 0;
+        x->stop_ticks = 0;
+        x->stop_rest = 0;
+        x->stop_limit = 0;
+    }
+    if (x->stop_then < then)                     /* deinit > disable > hold */
+        x->stop_then = then;
+    /* INC/SSI: a stop that disables waits for the mechanics at rest; the
+     * STP is open loop: stopped is the step rate ramped to <ssf> and off */
+    x->stop_settle = CARD_STOP_SETTLES && x->stop_then != STOP_HOLD;
+    brake_now(x, ed_t);                          /* from the next tick on, not the next SP */
 }
 
 void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p)
@@ -193,8 +229,8 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
      * mask (motion_after_command); until then they read as stale */
     x->q_gen = (uint16_t)~par_gen[n];
     motion_vq_due |= (uint8_t)(1u << n);
-    if (mode == M_RESET)
-        motion_emergency(n, STOP_DISABLE);       /* 4.8.2: the <ed> ramp from the next tick on */
+    if (mode == M_RESET)                         /* 4.8.2: the <ed> ramp from the next tick on */
+        emergency_at(x, STOP_DISABLE, p->ed_t);  /* (the velocities are stale until after the command) */
 }
 
 void motion_after_command_do(void)
@@ -214,25 +250,8 @@ void motion_emergency(unsigned n, uint8_t then)
         axis_disable(n);
         return;
     }
-    if (x->stop_then == STOP_NONE) {
-        /* the runaway guard from the following error of the moment (stop_watch) */
-        int32_t e = x->ferr < 0 ? -x->ferr : x->ferr, m = x->mf / 2;
-        x->stop_fmax = e > INT32_MAX - m ? INT32_MAX : e + m;
-        x->stop_f0 = x->stop_flast = e;
-        x->stop_vlast = 0;
-        x->stop_grow = 0;
-        x->stop_ferr = 0;
-        x->stop_ticks = 0;
-        x->stop_rest = 0;
-        x->stop_limit = 0;
-    }
-    if (x->stop_then < then)                     /* deinit > disable > hold */
-        x->stop_then = then;
-    /* INC/SSI: a stop that disables waits for the mechanics at rest; the
-     * STP is open loop: stopped is the step rate ramped to <ssf> and off */
-    x->stop_settle = CARD_STOP_SETTLES && x->stop_then != STOP_HOLD;
-    vq_refresh(n);
-    brake_now(x, x->q_ed);                       /* from the next tick on, not the next SP */
+    vq_refresh_x(x, n);
+    emergency_at(x, then, x->q_ed_t);
 }
 
 /* 6.3.4: the drive's power stage is off, the loop cannot brake the motor:

@@ -16,6 +16,7 @@ typedef struct {
     servo_gains_t gains;
     uint16_t trt_periods;
     int64_t target;
+    int32_t ed_t;           /* <ed> per tick^2, for MRE's ramp (motion_start) */
     stp_plan_t stp;
 } motion_plan_t;
 void motion_plan_target(unsigned n, uint8_t mode, motion_plan_t *p);

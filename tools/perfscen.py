@@ -256,6 +256,9 @@ def commands(card, ms=1000):
         lines += ["send %d WAP %d" % (a, far), "send %d E" % a, "send 3 %s" % ("INIT" if k % 2 == 0 else "DEINIT"),
                   "run 10"]
     lines += ["perf quiet off"] + positions_lines() + ["perf quiet on"] + every_command_lines(card, tg)
+    # a motion reset of a moving axis (MRE, E: 4.8.2, its ramp set up in the
+    # E's masked commit), the axis enabled again once it stands
+    lines += ["send 2 MRE", "send 2 E", "run 300", "send 2 ME", "send 2 E", "run 20"]
     # and last the watchdog (4.7) with all four axes moving: <wd> 20 ms, then
     # silence - all axes stop at once (watchdog_fire)
     lines += ["send 3 INIT", "send 3 ME", "send 3 E", "run 20", "send 3 WAP %d" % tg[3], "send 3 MP"]
