@@ -102,30 +102,34 @@ int ext_pc_arm(unsigned a, uint32_t on)
     ext_pc_t *c = &ext_pc[a];
     if (on > 1)
         return ERR_LIMIT;
-    unsigned prev = hal_irq_save();
+    /* A command (masked by the command path): the budget and the window from
+     * the parameters are main-loop state no interrupt reads, worked out with
+     * interrupts enabled as cmd_table.h's cmd_unmask() does; the commit, from
+     * the position of the moment, masked again. */
+    hal_irq_enable_all();
+    int fits = !on || c->armed || ext_fits(EXT_W_COMPARE);
+    int64_t p0 = PAR(a, PCP), e = PAR(a, PCE), n = PAR(a, PCN);
+    int32_t k = 1;
+    if (n && e > p0)
+        k = (int32_t)((uint32_t)(e - p0) / (uint32_t)n) + 1;
+    int64_t last = p0 + (int64_t)((uint32_t)(k - 1) * (uint32_t)n);
+    (void)hal_irq_save();
     axis_at[a]->ustat &= ~UB(PC_HIT);
     if (!on) {
         c->armed = 0;
         ext_on &= (uint16_t)~(0x10u << a);
-        hal_irq_restore(prev);
         return 0;
     }
-    if (!c->armed && !ext_fits(EXT_W_COMPARE)) {
-        hal_irq_restore(prev);
+    if (!fits)
         return ERR_LOGICAL;                       /* beyond the extensions' budget (ext.h) */
-    }
-    int64_t p0 = PAR(a, PCP), e = PAR(a, PCE), n = PAR(a, PCN);
     c->p0 = p0;
     c->n = n;
-    c->k = 1;
-    if (n && e > p0)
-        c->k = (int32_t)((uint32_t)(e - p0) / (uint32_t)n) + 1;
-    c->last_pt = p0 + (int64_t)((uint32_t)(c->k - 1) * (uint32_t)n);
+    c->k = k;
+    c->last_pt = last;
     c->crossings = c->irqs = 0;
     c->irq_done = 0;
     ext_pc_locate(c, pc_pos(a));                  /* where the axis is now: no crossing yet */
     c->armed = 1;
     ext_on |= (uint16_t)(0x10u << a);
-    hal_irq_restore(prev);
     return 0;
 }

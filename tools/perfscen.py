@@ -259,6 +259,8 @@ def commands(card, ms=1000):
     # a motion reset of a moving axis (MRE, E: 4.8.2, its ramp set up in the
     # E's masked commit), the axis enabled again once it stands
     lines += ["send 2 MRE", "send 2 E", "run 300", "send 2 ME", "send 2 E", "run 20"]
+    # position compare armed on a moving axis (the extensions' set-up)
+    lines += ["send 1 WPCN 100", "send 1 WPCE %d" % (tg[1] + 100000), "send 1 PCON 1", "run 20", "send 1 PCON 0"]
     # and last the watchdog (4.7) with all four axes moving: <wd> 20 ms, then
     # silence - all axes stop at once (watchdog_fire)
     lines += ["send 3 INIT", "send 3 ME", "send 3 E", "run 20", "send 3 WAP %d" % tg[3], "send 3 MP"]
