@@ -19,21 +19,22 @@ typedef struct {
      * axis.c (axis_set_mode, axis_error) and the commands (cmd*.c); the
      * supervision (supervise.c, motion_supervise.c) its switch and fault
      * bits, masked */
-    /* writers: axis.c card.c cmd.c cmd_general.c ext_comp.c ext_compare.c stp_motion.h
+    /* writers: axis.c axis.h card.c cmd.c cmd_general.c ext_comp.c ext_compare.c stp_motion.h
      * motion_justify.c motion_profile.c motion_supervise.c stepper.c supervise.c ssi_card.h
      * (bit by bit: status.def USTAT_BY/SSTAT_BY) */
     struct {
         uint32_t ustat;     /* user status, manual 7.1.1 (RBS); bits 0-7 = mode */
         uint32_t sstat;     /* system status, manual 7.1.2 (RSS) */
-        /* writers: axis.c cmd.c */
+        /* writers: axis.c axis.h cmd.c */
         uint16_t err_report;/* error code to give as the answer to the next command, 0 none */
     };
-    /* axis state: axis.c alone writes the mode (axis_set_mode); next_mode is
-     * the commands' (cmd_general.c), cleared by a stop or a disable */
+    /* axis state: axis_set_mode alone writes the mode (its body: axis.h);
+     * next_mode is the commands' (cmd_general.c), cleared by a stop or a
+     * disable */
     struct {
-        /* writers: axis.c */
+        /* writers: axis.h */
         uint8_t mode;       /* mode in force (M_*) */
-        /* writers: cmd_general.c axis.c card.c supervise.c */
+        /* writers: cmd_general.c axis.h card.c supervise.c */
         uint8_t next_mode;  /* mode selected for the next E, or NO_MODE */
     };
     /* outputs: the shadow of AX_CTRL is written with every write of the
@@ -152,7 +153,7 @@ typedef struct {
      * only with the mechanics at rest under closed-loop control, with its
      * runaway guards */
     struct {
-        /* writers: motion.c motion_supervise.c axis.c */
+        /* writers: motion.c motion_supervise.c axis.h */
         uint8_t stop_then;  /* protective stop in progress: STOP_* */
         uint8_t stop_settle;    /* wait for the mechanics at rest before STOP_DISABLE/DEINIT */
         uint8_t stop_rest;      /* supervised ticks in a row with |RAV| <= STOP_REST_VEL */

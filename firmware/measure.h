@@ -84,22 +84,31 @@ FW_INLINE int measure_ext_read(axis_t *x, unsigned n, const meas_cfg_t *c,
 }
 
 /* The tick's external reading within <eb> and <ec>: 0 and the value, or -1
- * after an encoder error (6.3.8); RED shows a value beyond <ec>. */
-FW_INLINE int measure_ext_checked(axis_t *x, meas_cfg_t *c, unsigned n,
-                                                                     uint32_t *rawp)
+ * when it is an encoder error (6.3.8), which the caller raises; RED shows a
+ * value beyond <ec>. */
+FW_INLINE int measure_ext_valid(axis_t *x, const meas_cfg_t *c, unsigned n,
+                                                                   uint32_t *rawp)
 {
     uint32_t raw;
-    if (measure_ext_read(x, n, c, &raw)) {
-        measure_encoder_error(n);
+    if (measure_ext_read(x, n, c, &raw))
         return -1;
-    }
     raw &= c->mask;
     if (raw > c->lim) {                                 /* beyond <ec> (4.4.2.1, 6.3.8) */
         x->raw = raw;
-        measure_encoder_error(n);
         return -1;
     }
     *rawp = raw;
+    return 0;
+}
+
+/* ... and raised (measure_encoder_error) */
+FW_INLINE int measure_ext_checked(axis_t *x, meas_cfg_t *c, unsigned n,
+                                                                     uint32_t *rawp)
+{
+    if (measure_ext_valid(x, c, n, rawp)) {
+        measure_encoder_error(n);
+        return -1;
+    }
     return 0;
 }
 

@@ -8,13 +8,16 @@
 #include "measure.h"
 #include "cmd.h"
 #include "cmd_table.h"
+#include "axis.h"
 
 
 FW_INLINE void measure_ext_body(axis_t *x, meas_cfg_t *c, unsigned n)
 {
     uint32_t raw;
-    if (measure_ext_checked(x, c, n, &raw))
+    if (measure_ext_valid(x, c, n, &raw)) {
+        axis_encoder_error_at(x, c, n);           /* inline: n a constant in the tick */
         return;
+    }
     int32_t d = measure_delta(x, c, raw);
     x->raw = raw;
     x->counter = raw;
