@@ -55,8 +55,15 @@ FW_INLINE int measure_ext_read(axis_t *x, unsigned n, const meas_cfg_t *c,
                                                                   uint32_t *raw)
 {
     uint32_t v;
-    switch (c->path) {
-    case EXT_DPRAM:                                     /* external, via the DPRAM (3.5.2) */
+    /* the paths in the order of their frequency: <eb> above 16 first */
+    if (c->path == EXT_VME32) {                         /* LSW at <ea>+2 first (4.4.2.1) */
+        hal_wr16(VME_PAGE, c->page);
+        uint32_t lsw = hal_rd16(c->addr + 2u);
+        v = ((uint32_t)hal_rd16(c->addr) << 16) | lsw;
+    } else if (c->path == EXT_VME16) {                  /* external over the VMEbus, A24 window */
+        hal_wr16(VME_PAGE, c->page);
+        v = hal_rd16(c->addr);
+    } else if (c->path == EXT_DPRAM) {                  /* external, via the DPRAM (3.5.2) */
         if (hal_rd16(c->addr - 2u) & 0x8000u) {
             x->raw = hal_rd32(c->addr);
             hal_wr16(c->addr - 2u, 0);                  /* the host may write the next one */
@@ -64,17 +71,7 @@ FW_INLINE int measure_ext_read(axis_t *x, unsigned n, const meas_cfg_t *c,
         }
         *raw = x->raw;
         return 0;
-    case EXT_VME16:                                     /* external over the VMEbus, A24 window */
-        hal_wr16(VME_PAGE, c->page);
-        v = hal_rd16(c->addr);
-        break;
-    case EXT_VME32: {                                   /* LSW at <ea>+2 first (4.4.2.1) */
-        hal_wr16(VME_PAGE, c->page);
-        uint32_t lsw = hal_rd16(c->addr + 2u);
-        v = ((uint32_t)hal_rd16(c->addr) << 16) | lsw;
-        break;
-    }
-    default:
+    } else {
         return -1;                                      /* no address INIT accepted: touch nothing */
     }
     if (hal_rd16(VME_STATUS) & VME_ST_BERR)
