@@ -56,9 +56,9 @@ typedef struct {
         int32_t pos;        /* actual position: measured + <ao> (RCP) */
         /* writers: measure.c measure.h stepper.c ext_comp.c */
         int32_t meas;       /* measured position without offset */
-        /* writers: measure.c measure.h servo_meas.c stepper.h supervise.c */
+        /* writers: measure.c measure.h stepper.h supervise.c */
         uint32_t raw;       /* last raw value read (RED) */
-        /* writers: measure.c measure.h servo_meas.c stepper.h */
+        /* writers: measure.c measure.h stepper.h */
         uint32_t counter;   /* last processed counter content (RCT) */
         /* writers: supervise.c measure.c */
         int32_t vel;        /* actual velocity per servo period (RAV) */

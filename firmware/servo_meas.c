@@ -11,17 +11,6 @@
 #include "axis.h"
 
 
-/* A valid reading raw into the measured position: the motion since the
- * last reading (measure_delta), then raw and counter.  abs_linear, a
- * constant: the axis is absolute and linear (the reading is the position). */
-FW_INLINE void measure_ext_take(axis_t *x, const meas_cfg_t *c, uint32_t raw, int abs_linear)
-{
-    int32_t d = measure_delta_k(x, c, raw, abs_linear);
-    x->raw = raw;
-    x->counter = raw;
-    measure_apply_k(x, d, abs_linear);
-}
-
 /* ... for every kind of axis: out of line, so that the tick's copies keep
  * only the absolute linear case and few registers, the others a tail call */
 static void __attribute__((noinline)) measure_ext_take_any(axis_t *x, const meas_cfg_t *c, uint32_t raw)
@@ -56,6 +45,17 @@ void measure_ext_0(void) { measure_ext_at(0); }
 void measure_ext_1(void) { measure_ext_at(1); }
 void measure_ext_2(void) { measure_ext_at(2); }
 void measure_ext_3(void) { measure_ext_at(3); }
+
+/* The encoder error of the tick's inline path (tick_servo.c
+ * tick_measure_ext), the same way with a constant n */
+FW_INLINE void measure_ext_error_at(unsigned n)
+{
+    axis_encoder_error_at(&axes[n], &meas_cfg[n], n);
+}
+void measure_ext_error_0(void) { measure_ext_error_at(0); }
+void measure_ext_error_1(void) { measure_ext_error_at(1); }
+void measure_ext_error_2(void) { measure_ext_error_at(2); }
+void measure_ext_error_3(void) { measure_ext_error_at(3); }
 
 void measure_init_card(unsigned n)
 {

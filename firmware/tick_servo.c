@@ -33,6 +33,39 @@ FW_INLINE void measure_ext_axis(unsigned n)
         measure_ext_3();
 }
 
+/* ... and its encoder error (6.3.8), out of line */
+FW_INLINE void measure_ext_error_axis(unsigned n)
+{
+    if (n == 0)
+        measure_ext_error_0();
+    else if (n == 1)
+        measure_ext_error_1();
+    else if (n == 2)
+        measure_ext_error_2();
+    else
+        measure_ext_error_3();
+}
+
+/* The tick's external measurement (MK_OTHER), <et> 3/4, n a constant.  On
+ * the SSI the common case - 32-bit VMEbus reads of an absolute encoder on
+ * a linear axis - inline, and the rest out of line (servo_meas.c); on the
+ * INC all out of line, so that the counter's path falls through to the
+ * rest of the axis (inline, the one taken branch is the counter's: 40
+ * cycles more in every INC tick). */
+FW_INLINE void tick_measure_ext(axis_t *x, unsigned n)
+{
+    meas_cfg_t *c = &meas_cfg[n];
+    uint32_t raw;
+    if (MAC4_CARD == MAC4_CARD_SSI && c->path == EXT_VME32 && c->abs && x->linear) {
+        if (measure_ext_valid_k(x, c, n, &raw, 1) == 0)
+            measure_ext_take(x, c, raw, 1);
+        else
+            measure_ext_error_axis(n);
+    } else {
+        measure_ext_axis(n);
+    }
+}
+
 /* The measurement of one axis of the INC/SSI tick, the card's own encoder
  * first: one test on the common path.  Inlined four times with a constant
  * n, so the registers are absolute addresses and the axis one address
@@ -50,7 +83,7 @@ FW_INLINE void tick_measure(axis_t *x, unsigned n)
         if (measure_ssi(x, n, &d, 0) == 0)
             measure_apply(x, d);
     } else if (mk != MK_NONE) {
-        measure_ext_axis(n);                      /* <et> 3/4 (servo_meas.c), out of line, n a constant */
+        tick_measure_ext(x, n);
     }
 }
 
