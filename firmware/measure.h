@@ -173,9 +173,7 @@ FW_INLINE int32_t measure_delta_k(const axis_t *x, const meas_cfg_t *c,
         return d;
     }
     uint32_t u = (raw - x->counter) & c->mask;
-    if (u & c->sign)
-        u |= ~c->mask;
-    return (int32_t)u;
+    return (int32_t)((u ^ c->sign) - c->sign);          /* bit <eb>-1 the sign: extended */
 }
 
 FW_INLINE int32_t measure_delta(const axis_t *x, const meas_cfg_t *c,
