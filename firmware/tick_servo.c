@@ -144,8 +144,9 @@ FW_INLINE void tick_axis_at(unsigned n, unsigned ph4, int general)
 }
 
 /* The SP boundary for INC/SSI (the STP's is stp_take_segment), inlined
- * with a constant n: 1 if late */
-FW_INLINE unsigned take_row(unsigned n)
+ * with a constant n; a late row counts in card_profile_late (only then:
+ * the common case adds nothing) */
+FW_INLINE void take_row(unsigned n)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
@@ -155,13 +156,14 @@ FW_INLINE unsigned take_row(unsigned n)
         x->sp_next = row;
         x->sp_vel = x->sp_vel_next;
         x->nx_ready = 0;
-        return 0;
+        return;
     }
     if (x->braking)
-        return 0;                                 /* the tick brakes by itself */
+        return;                                   /* the tick brakes by itself */
     row[0] = row[1] = row[2] = row[PROFILE_DIVIDER - 1u];
     x->sp_vel = 0;
-    return x->mode != M_DISABLE && x->mode != M_TEST;
+    if (x->mode != M_DISABLE && x->mode != M_TEST)
+        card_profile_late++;
 }
 
 /* The tick, inlined twice: for K-only gains on every axis (the defaults)
@@ -171,8 +173,10 @@ FW_INLINE void tick(int general)
     hal_wr16(TMR_STATUS, TMR_ST_EXPIRED);
     unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
     if (phase == 0) {                             /* SP boundary: take the prepared rows */
-        card_profile_late = (uint16_t)(card_profile_late + take_row(0) + take_row(1) + take_row(2) +
-                                       take_row(3));
+        take_row(0);
+        take_row(1);
+        take_row(2);
+        take_row(3);
         card_profile_due = MAC4_NAXES;
     }
     unsigned ph4 = phase * 4u;
