@@ -14,8 +14,7 @@
 #include "stepper.h"
 #include "tick.h"
 #include "card_variant.h"
-
-static void axis_output(unsigned n, int32_t out) { axis_output_at(n, out); }
+#include "axis.h"
 
 /* The only writer of an axis' gains, so that card_servo_general always
  * says which axes need the general filter (interrupts masked: motion_start) */
@@ -28,29 +27,19 @@ void axis_set_gains(unsigned n, const servo_gains_t *g)
         card_servo_general &= (uint8_t)~(1u << n);
 }
 
+/* the bodies: axis.h (the tick's encoder error instantiates them too) */
 void axis_set_mode(unsigned n, uint8_t mode)
 {
     axis_t *x = axis_at[n];                       /* the table, not a multiply by sizeof(axis_t) */
     PIN_PTR(x);
-    x->mode = mode;
-    x->ustat = (x->ustat & ~US_MODE_MASK) | mode;
-    if (mode == M_DISABLE) {
-        x->ustat &= ~UB(DR_EN);
-    } else {
-        x->ustat |= UB(DR_EN);
-        meas_cfg[n].failed = 0;                   /* the axis runs: a failure counts again (6.3.8) */
-    }
-    axis_mode_card(x, n, mode);                   /* servo: /EN at once; STP: the tick's body */
+    axis_set_mode_at(x, n, mode);
 }
 
 void axis_disable(unsigned n)
 {
-    axis_set_mode(n, M_DISABLE);
-    axis_output(n, 0);           /* /EN open, 0 V or no pulses now, not at the next tick */
     axis_t *x = axis_at[n];
-    x->stop_then = STOP_NONE;
-    x->stop_settle = 0;
-    x->next_mode = NO_MODE;
+    PIN_PTR(x);
+    axis_disable_at(x, n);
 }
 
 void axis_error(unsigned n, uint32_t ubit, uint16_t code)

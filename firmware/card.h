@@ -22,7 +22,7 @@ typedef struct {
      * axis.c (axis_set_mode, axis_error) and the commands (cmd*.c); the
      * supervision (supervise.c, motion_supervise.c) its switch and fault
      * bits, masked */
-    /* writers: axis.c card.c cmd.c cmd_general.c ext_comp.c ext_compare.c stp_motion.h
+    /* writers: axis.c axis.h card.c cmd.c cmd_general.c ext_comp.c ext_compare.c stp_motion.h
      * motion.c motion_justify.c motion_profile.c motion_supervise.c stepper.c supervise.c
      * ssi_card.h
      * (bit by bit: status.def USTAT_BY/SSTAT_BY) */
@@ -33,11 +33,11 @@ typedef struct {
         uint16_t err_report;/* error code to give as the answer to the next command, 0 none:
                              * axis_error sets it, axis_error_reported clears it once given */
     };
-    /* axis state: axis.c alone writes the mode (axis_set_mode) and
-     * next_mode (axis.h axis_select_mode: a mode command, cleared by E,
-     * INIT, DEINIT, a stop bit, a disable and a reset) */
+    /* axis state: axis.c alone writes the mode (axis_set_mode, its body in
+     * axis.h) and next_mode (axis.h axis_select_mode: a mode command,
+     * cleared by E, INIT, DEINIT, a stop bit, a disable and a reset) */
     struct {
-        /* writers: axis.c axis.h */
+        /* writers: axis.h */
         uint8_t mode;       /* mode in force (M_*) */
         uint8_t next_mode;  /* mode selected for the next E, or NO_MODE */
     };
@@ -62,9 +62,9 @@ typedef struct {
         int32_t pos;        /* actual position: measured + <ao> (RCP) */
         /* writers: measure.c measure.h stepper.c ext_comp.c */
         int32_t meas;       /* measured position without offset */
-        /* writers: measure.c measure.h servo_meas.c stepper.h supervise.c */
+        /* writers: measure.c measure.h stepper.h supervise.c */
         uint32_t raw;       /* last raw value read (RED) */
-        /* writers: measure.c measure.h servo_meas.c stepper.h */
+        /* writers: measure.c measure.h stepper.h */
         uint32_t counter;   /* last processed counter content (RCT) */
         /* writers: supervise.c measure.c */
         int32_t vel;        /* actual velocity per servo period (RAV) */
@@ -168,7 +168,7 @@ typedef struct {
      * a stop that ends only with the mechanics at rest under closed-loop
      * control, with its runaway guards */
     struct {
-        /* writers: motion.c axis.c */
+        /* writers: motion.c axis.h */
         uint8_t stop_then;  /* protective stop in progress: STOP_* */
         uint8_t stop_settle;    /* wait for the mechanics at rest before STOP_DISABLE/DEINIT */
         /* writers: motion.c motion_priv.h */

@@ -11,6 +11,7 @@
 #include "params.h"
 #include "measure.h"
 #include "card_variant.h"
+#include "axis.h"
 
 meas_cfg_t meas_cfg[MAC4_NAXES];
 static uint32_t eb_mask(int32_t eb) { return eb >= 32 ? 0xFFFFFFFFu : (((uint32_t)1 << eb) - 1u); }
@@ -49,18 +50,12 @@ int measure_ea_ok(uint32_t ea, int32_t eb)
     return eb <= 16 || (ea & (VME_WIN_SIZE - 1u)) <= VME_WIN_SIZE - 4u;
 }
 
-/* 6.3.8: encoder_f and logo_f, 163 for the next command, disabled without a
- * ramp.  Once: while the axis stays disabled after it, a measurement that
- * keeps failing raises nothing more, so C, DEINIT and new parameters get
- * through; enabled again (axis_set_mode clears `failed`), the next failure
- * raises it again. */
+/* 6.3.8, once: axis.h's axis_encoder_error_at */
 void measure_encoder_error(unsigned n)
 {
-    if (meas_cfg[n].failed)
-        return;
-    meas_cfg[n].failed = 1;
-    axis_error(n, UB(ENCODER_F) | UB(LOGO_F), ERR_LOGICAL);
-    axis_disable(n);                                    /* without a ramp */
+    axis_t *x = axis_at[n];
+    PIN_PTR(x);
+    axis_encoder_error_at(x, &meas_cfg[n], n);
 }
 
 void measure_init(unsigned n)

@@ -36,27 +36,41 @@ void measure_encoder_error(unsigned n);   /* 6.3.8, once (measure.c) */
 
 /* ---- per card: servo_meas.c (INC, SSI), stp_meas.c (STP) -------------------
  * The tick's external measurement (MK_OTHER), out of line so that the tick's
- * common paths keep their registers; the pointers are the tick's constants.
- * The STP turns the reading into steps (4.4.2.3). */
+ * common paths keep their registers (the SSI's tick has the common case
+ * inline: tick_servo.c tick_measure_ext); the pointers are the tick's
+ * constants.  The STP turns the reading into steps (4.4.2.3). */
 void measure_ext(axis_t *x, meas_cfg_t *c, unsigned n);
 /* INC/SSI: the same for axis 0 .. 3, the tick's (tick_servo.c measure_ext_axis) */
 void measure_ext_0(void);
 void measure_ext_1(void);
 void measure_ext_2(void);
 void measure_ext_3(void);
+/* SSI: the encoder error of the tick's inline path, axis 0 .. 3 */
+void measure_ext_error_0(void);
+void measure_ext_error_1(void);
+void measure_ext_error_2(void);
+void measure_ext_error_3(void);
 /* The end of INIT's set-up (measure_init), before the tick's copies: the
  * STP's ratio, tolerance and BR check; nothing on INC/SSI. */
 void measure_init_card(unsigned n);
 
 /* An external position (<et> 3/4, 3.5.2, 4.4.2.1) where INIT found it
  * (meas_cfg.path): 0 and the value, or -1 when the measurement failed.
- * INIT's first reading (measure.c) and the tick's (measure_ext_checked). */
-FW_INLINE int measure_ext_read(axis_t *x, unsigned n, const meas_cfg_t *c,
-                                                                  uint32_t *raw)
+ * INIT's first reading (measure.c) and the tick's (measure_ext_valid); vme32,
+ * a constant: the caller knows the path is EXT_VME32. */
+FW_INLINE int measure_ext_read_k(axis_t *x, unsigned n, const meas_cfg_t *c,
+                                                                  uint32_t *raw, int vme32)
 {
     uint32_t v;
-    switch (c->path) {
-    case EXT_DPRAM:                                     /* external, via the DPRAM (3.5.2) */
+    /* the paths in the order of their frequency: <eb> above 16 first */
+    if (vme32 || c->path == EXT_VME32) {                /* LSW at <ea>+2 first (4.4.2.1) */
+        hal_wr16(VME_PAGE, c->page);
+        uint32_t lsw = hal_rd16(c->addr + 2u);
+        v = ((uint32_t)hal_rd16(c->addr) << 16) | lsw;
+    } else if (c->path == EXT_VME16) {                  /* external over the VMEbus, A24 window */
+        hal_wr16(VME_PAGE, c->page);
+        v = hal_rd16(c->addr);
+    } else if (c->path == EXT_DPRAM) {                  /* external, via the DPRAM (3.5.2) */
         if (hal_rd16(c->addr - 2u) & 0x8000u) {
             x->raw = hal_rd32(c->addr);
             hal_wr16(c->addr - 2u, 0);                  /* the host may write the next one */
@@ -64,17 +78,7 @@ FW_INLINE int measure_ext_read(axis_t *x, unsigned n, const meas_cfg_t *c,
         }
         *raw = x->raw;
         return 0;
-    case EXT_VME16:                                     /* external over the VMEbus, A24 window */
-        hal_wr16(VME_PAGE, c->page);
-        v = hal_rd16(c->addr);
-        break;
-    case EXT_VME32: {                                   /* LSW at <ea>+2 first (4.4.2.1) */
-        hal_wr16(VME_PAGE, c->page);
-        uint32_t lsw = hal_rd16(c->addr + 2u);
-        v = ((uint32_t)hal_rd16(c->addr) << 16) | lsw;
-        break;
-    }
-    default:
+    } else {
         return -1;                                      /* no address INIT accepted: touch nothing */
     }
     if (hal_rd16(VME_STATUS) & VME_ST_BERR)
@@ -83,23 +87,42 @@ FW_INLINE int measure_ext_read(axis_t *x, unsigned n, const meas_cfg_t *c,
     return 0;
 }
 
+FW_INLINE int measure_ext_read(axis_t *x, unsigned n, const meas_cfg_t *c, uint32_t *raw)
+{
+    return measure_ext_read_k(x, n, c, raw, 0);
+}
+
 /* The tick's external reading within <eb> and <ec>: 0 and the value, or -1
- * after an encoder error (6.3.8); RED shows a value beyond <ec>. */
-FW_INLINE int measure_ext_checked(axis_t *x, meas_cfg_t *c, unsigned n,
-                                                                     uint32_t *rawp)
+ * when it is an encoder error (6.3.8), which the caller raises; RED shows a
+ * value beyond <ec>. */
+FW_INLINE int measure_ext_valid_k(axis_t *x, const meas_cfg_t *c, unsigned n,
+                                                                   uint32_t *rawp, int vme32)
 {
     uint32_t raw;
-    if (measure_ext_read(x, n, c, &raw)) {
-        measure_encoder_error(n);
+    if (measure_ext_read_k(x, n, c, &raw, vme32))
         return -1;
-    }
     raw &= c->mask;
     if (raw > c->lim) {                                 /* beyond <ec> (4.4.2.1, 6.3.8) */
         x->raw = raw;
-        measure_encoder_error(n);
         return -1;
     }
     *rawp = raw;
+    return 0;
+}
+
+FW_INLINE int measure_ext_valid(axis_t *x, const meas_cfg_t *c, unsigned n, uint32_t *rawp)
+{
+    return measure_ext_valid_k(x, c, n, rawp, 0);
+}
+
+/* ... and raised (measure_encoder_error) */
+FW_INLINE int measure_ext_checked(axis_t *x, meas_cfg_t *c, unsigned n,
+                                                                     uint32_t *rawp)
+{
+    if (measure_ext_valid(x, c, n, rawp)) {
+        measure_encoder_error(n);
+        return -1;
+    }
     return 0;
 }
 
@@ -150,9 +173,7 @@ FW_INLINE int32_t measure_delta_k(const axis_t *x, const meas_cfg_t *c,
         return d;
     }
     uint32_t u = (raw - x->counter) & c->mask;
-    if (u & c->sign)
-        u |= ~c->mask;
-    return (int32_t)u;
+    return (int32_t)((u ^ c->sign) - c->sign);          /* bit <eb>-1 the sign: extended */
 }
 
 FW_INLINE int32_t measure_delta(const axis_t *x, const meas_cfg_t *c,
@@ -216,5 +237,16 @@ FW_INLINE void measure_apply_k(axis_t *x, int32_t d, int linear)
 }
 
 FW_INLINE void measure_apply(axis_t *x, int32_t d) { measure_apply_k(x, d, 0); }
+
+/* A valid reading raw into the measured position: the motion since the
+ * last reading (measure_delta), then raw and counter.  abs_linear, a
+ * constant: the axis is absolute and linear (the reading is the position). */
+FW_INLINE void measure_ext_take(axis_t *x, const meas_cfg_t *c, uint32_t raw, int abs_linear)
+{
+    int32_t d = measure_delta_k(x, c, raw, abs_linear);
+    x->raw = raw;
+    x->counter = raw;
+    measure_apply_k(x, d, abs_linear);
+}
 
 #endif

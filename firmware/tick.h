@@ -35,13 +35,9 @@ FW_INLINE void brake_step(axis_t *x, int32_t v)
 /* The outputs of axis n: /EN from the mode, and the DAC word (INC/SSI) or,
  * on the STP, DIR, BOOST, TURBO and the step rate register prepared by
  * stp_rate.h (stp_output; `out` is not used: the rate is exact to the Q16
- * step). */
-FW_INLINE void axis_output_at(unsigned n, int32_t out)
+ * step); x is axes[n]. */
+FW_INLINE void axis_output_x(axis_t *x, unsigned n, int32_t out)
 {
-    /* a constant n (the ticks): an absolute address; else (axis_disable)
-     * the table, not a multiply by sizeof(axis_t) */
-    axis_t *x = __builtin_constant_p(n) ? &axes[n] : axis_at[n];
-    PIN_PTR(x);
     uint16_t ctrl = (uint16_t)(x->ctrl & ~AX_CTRL_EN);
     if (x->mode != M_DISABLE)
         ctrl |= AX_CTRL_EN;
@@ -51,6 +47,16 @@ FW_INLINE void axis_output_at(unsigned n, int32_t out)
     x->out = (int16_t)out;
     hal_wr16(AX_REG(n, AX_CTRL), ctrl);
     hal_wr16(AX_REG(n, AX_DAC), (uint16_t)out);
+}
+
+/* ... of axis n, the axis looked up */
+FW_INLINE void axis_output_at(unsigned n, int32_t out)
+{
+    /* a constant n (the ticks): an absolute address; else the table, not a
+     * multiply by sizeof(axis_t) */
+    axis_t *x = __builtin_constant_p(n) ? &axes[n] : axis_at[n];
+    PIN_PTR(x);
+    axis_output_x(x, n, out);
 }
 
 #endif

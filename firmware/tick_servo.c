@@ -33,6 +33,39 @@ FW_INLINE void measure_ext_axis(unsigned n)
         measure_ext_3();
 }
 
+/* ... and its encoder error (6.3.8), out of line */
+FW_INLINE void measure_ext_error_axis(unsigned n)
+{
+    if (n == 0)
+        measure_ext_error_0();
+    else if (n == 1)
+        measure_ext_error_1();
+    else if (n == 2)
+        measure_ext_error_2();
+    else
+        measure_ext_error_3();
+}
+
+/* The tick's external measurement (MK_OTHER), <et> 3/4, n a constant.  On
+ * the SSI the common case - 32-bit VMEbus reads of an absolute encoder on
+ * a linear axis - inline, and the rest out of line (servo_meas.c); on the
+ * INC all out of line, so that the counter's path falls through to the
+ * rest of the axis (inline, the one taken branch is the counter's: 40
+ * cycles more in every INC tick). */
+FW_INLINE void tick_measure_ext(axis_t *x, unsigned n)
+{
+    meas_cfg_t *c = &meas_cfg[n];
+    uint32_t raw;
+    if (MAC4_CARD == MAC4_CARD_SSI && c->path == EXT_VME32 && c->abs && x->linear) {
+        if (measure_ext_valid_k(x, c, n, &raw, 1) == 0)
+            measure_ext_take(x, c, raw, 1);
+        else
+            measure_ext_error_axis(n);
+    } else {
+        measure_ext_axis(n);
+    }
+}
+
 /* The measurement of one axis of the INC/SSI tick, the card's own encoder
  * first: one test on the common path.  Inlined four times with a constant
  * n, so the registers are absolute addresses and the axis one address
@@ -50,7 +83,7 @@ FW_INLINE void tick_measure(axis_t *x, unsigned n)
         if (measure_ssi(x, n, &d, 0) == 0)
             measure_apply(x, d);
     } else if (mk != MK_NONE) {
-        measure_ext_axis(n);                      /* <et> 3/4 (servo_meas.c), out of line, n a constant */
+        tick_measure_ext(x, n);
     }
 }
 
@@ -111,8 +144,9 @@ FW_INLINE void tick_axis_at(unsigned n, unsigned ph4, int general)
 }
 
 /* The SP boundary for INC/SSI (the STP's is stp_take_segment), inlined
- * with a constant n: 1 if late */
-FW_INLINE unsigned take_row(unsigned n)
+ * with a constant n; a late row counts in card_profile_late (only then:
+ * the common case adds nothing) */
+FW_INLINE void take_row(unsigned n)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
@@ -122,13 +156,14 @@ FW_INLINE unsigned take_row(unsigned n)
         x->sp_next = row;
         x->sp_vel = x->sp_vel_next;
         x->nx_ready = 0;
-        return 0;
+        return;
     }
     if (x->braking)
-        return 0;                                 /* the tick brakes by itself */
+        return;                                   /* the tick brakes by itself */
     row[0] = row[1] = row[2] = row[PROFILE_DIVIDER - 1u];
     x->sp_vel = 0;
-    return x->mode != M_DISABLE && x->mode != M_TEST;
+    if (x->mode != M_DISABLE && x->mode != M_TEST)
+        card_profile_late++;
 }
 
 /* The tick, inlined twice: for K-only gains on every axis (the defaults)
@@ -138,8 +173,10 @@ FW_INLINE void tick(int general)
     hal_wr16(TMR_STATUS, TMR_ST_EXPIRED);
     unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
     if (phase == 0) {                             /* SP boundary: take the prepared rows */
-        card_profile_late = (uint16_t)(card_profile_late + take_row(0) + take_row(1) + take_row(2) +
-                                       take_row(3));
+        take_row(0);
+        take_row(1);
+        take_row(2);
+        take_row(3);
         card_profile_due = MAC4_NAXES;
     }
     unsigned ph4 = phase * 4u;

@@ -29,14 +29,15 @@ FW_INLINE void stp_tick_measure(unsigned n)
 
 /* At each SP boundary: take the segment the main loop prepared (motion_profile.c,
  * next_segment), split into 32-bit parts, which the tick interpolates in
- * Q16 for the step rate, or hold at the end of the last one; 1 if late.
- * No 64-bit arithmetic here. */
-FW_INLINE int stp_take_segment(unsigned n)
+ * Q16 for the step rate, or hold at the end of the last one; a late
+ * segment counts in card_profile_late (only then: the common case adds
+ * nothing).  No 64-bit arithmetic here. */
+FW_INLINE void stp_take_segment(unsigned n)
 {
     axis_t *x = &axes[n];
     PIN_PTR(x);
     if (x->braking)
-        return 0;                                /* the tick brakes by itself */
+        return;                                  /* the tick brakes by itself */
     if (x->nx_ready) {
         x->start_i = x->nx_start_i;
         x->start_f = x->nx_start_f;
@@ -45,13 +46,14 @@ FW_INLINE int stp_take_segment(unsigned n)
         x->end_i = x->nx_end_i;
         x->end_f = x->nx_end_f;
         x->nx_ready = 0;
-        return 0;
+        return;
     }
     x->start_i = x->end_i;
     x->start_f = x->end_f;
     x->st_i = 0;
     x->st_f = 0;
-    return x->mode != M_DISABLE && x->mode != M_TEST;
+    if (x->mode != M_DISABLE && x->mode != M_TEST)
+        card_profile_late++;
 }
 
 /* One axis of the STP tick after its measurement: the setpoint, the step
@@ -134,8 +136,10 @@ void fw_isr_tick(void)
     hal_wr16(TMR_STATUS, TMR_ST_EXPIRED);
     unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
     if (phase == 0) {                             /* SP boundary: take the prepared segments */
-        card_profile_late = (uint16_t)(card_profile_late + stp_take_segment(0) + stp_take_segment(1) +
-                                       stp_take_segment(2) + stp_take_segment(3));
+        stp_take_segment(0);
+        stp_take_segment(1);
+        stp_take_segment(2);
+        stp_take_segment(3);
         card_profile_due = MAC4_NAXES;
     }
     /* four times with a constant n: absolute register addresses, the axis
