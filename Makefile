@@ -2,7 +2,7 @@
 # `make help` prints the lines below that start with "#   make".
 #   make               EPROM images for INC, SSI, STP, build/mac4sim, build/commands.json
 #   make demo          boot the emulated MAC4-INC and show what a host sees
-#   make test          every lane below, in this order (TEST_LANES); about 6 min on 2 cores
+#   make test          every lane below, in this order (TEST_LANES); about 7 min on 2 cores
 #   make unit          cmocka unit tests of the firmware, native, ASan+UBSan
 #   make system        pytest: the EPROM images in the emulator (tests/system)
 #   make sanitize-short  the script reader's and scenarios' tests on the ASan+UBSan emulator
