@@ -242,10 +242,11 @@ def commands(card, ms=1000):
     """Three axes positioning while the host reconfigures: every 10 ms a new
     target on the fly for one of them (WAP, E) and INIT or DEINIT of the
     fourth - the commands that run longest with interrupts masked - and then
-    every other command once, and last a watchdog expiry, which stops all
-    axes at once: so that the longest masked section (the bound of every
-    interrupt's latency) and the tick's measured latency are in the
-    window."""
+    every other command once, every mode taken up by a moving axis (MRE
+    among them), a compare window armed on a moving axis, and last a
+    watchdog expiry, which stops all four moving axes at once: so that the
+    longest masked section (the bound of every interrupt's latency) and the
+    tick's measured latency are in the window."""
     tg = targets(card)
     lines = setup_lines(card) + enable_lines(card) + move_lines(card, tg[:3] + [tg[3]])
     lines += ["send 3 MD", "send 3 E", "send 3 DEINIT", "run 200"] + positions_lines()
@@ -256,8 +257,16 @@ def commands(card, ms=1000):
         lines += ["send %d WAP %d" % (a, far), "send %d E" % a, "send 3 %s" % ("INIT" if k % 2 == 0 else "DEINIT"),
                   "run 10"]
     lines += ["perf quiet off"] + positions_lines() + ["perf quiet on"] + every_command_lines(card, tg)
-    # a motion reset of a moving axis (MRE, E: 4.8.2, its ramp set up in the
-    # E's masked commit), the axis enabled again once it stands
+    # every mode taken up by a moving axis (its set-up is the E's masked
+    # commit; MRE's ramp, 4.8.2, among them), then time for a stop it began,
+    # C (a refused E, a following error after a disable leave logo_f) and
+    # the axis enabled again
+    table = __import__("json").load(open(os.path.join(BUILD, "commands.json")))
+    modes = [c["mnemonic"] for c in table["commands"] if card in c["cards"] and c["kind"] == "mode"]
+    for k, m in enumerate(modes):
+        far = tg[2] + (1 if k % 2 else -1) * 20000
+        lines += ["send 2 WAP %d" % far, "send 2 MP", "send 2 E", "run 40", "send 2 %s" % m, "send 2 E", "run 200",
+                  "send 2 C", "send 2 ME", "send 2 E", "run 20", "send 2 C"]
     lines += ["send 2 MRE", "send 2 E", "run 300", "send 2 ME", "send 2 E", "run 20"]
     # position compare armed on a moving axis (the extensions' set-up)
     lines += ["send 1 WPCN 100", "send 1 WPCE %d" % (tg[1] + 100000), "send 1 PCON 1", "run 20", "send 1 PCON 0"]
