@@ -197,15 +197,17 @@ static int do_general(int ci, unsigned a, uint32_t p)
         return do_init(a);
     case CI_E:
         return do_execute(a);
-    case CI_DEINIT:                               /* 4.9: stop, disable, deinitialise */
-        if (axis_standstill(a) || axes[a].mode == M_TEST) {
+    case CI_DEINIT: {                             /* 4.9: stop, disable, deinitialise */
+        axis_t *x = axis_at[a];                   /* the table, not a multiply by sizeof(axis_t) */
+        if (axis_standstill(a) || x->mode == M_TEST) {
             axis_disable(a);
-            axes[a].ustat &= ~UB(INIT);
+            x->ustat &= ~UB(INIT);
         } else {
             motion_emergency(a, STOP_DEINIT);
         }
-        axis_select_mode(&axes[a], NO_MODE);
+        axis_select_mode(x, NO_MODE);
         return 0;
+    }
     case CI_MR:
         if (!(hal_rd16(SYS_STATUS) & SYS_ST_J11))
             return ERR_LOGICAL;                   /* 2.1.3: MR works only with J11 in */

@@ -119,7 +119,14 @@ int ext_general(int ci, unsigned a, uint32_t p)
             return ERR_LIMIT;
         ext_fb_sel = (uint8_t)p;
         return 0;
-    case CI_FBS: return ext_fb_setup(ext_fb_sel, p);
+    case CI_FBS: {
+        /* the conversion table and its bit of ext_on are the main loop's
+         * (ext_slice): set up with interrupts enabled, as RCSM below */
+        hal_irq_enable_all();
+        int r = ext_fb_setup(ext_fb_sel, p);
+        (void)hal_irq_save();
+        return r;
+    }
     case CI_FBW1:
     case CI_FBW2:
         if (e->setup)
@@ -139,7 +146,17 @@ uint32_t ext_read(unsigned ci, unsigned a)
     const ext_fb_t *e = &ext_fb[ext_fb_sel];
     switch (ci) {
     case CI_RCEN: return (uint32_t)(int32_t)(t->ptr < t->n ? t->e[t->ptr + 1u] : 0);
-    case CI_RCSM: return ext_comp_sum(a);
+    case CI_RCSM: {
+        /* Read in a command, masked (cmd.c): a CRC over up to 256 entries,
+         * byte by byte, is some 62 000 cycles, more than a servo period; the
+         * table is the main loop's and no interrupt reads it, so it is
+         * summed with interrupts enabled, as cmd_table.h's cmd_unmask()
+         * lets a command's part the tick does not read run. */
+        hal_irq_enable_all();
+        uint32_t v = ext_comp_sum(a);
+        (void)hal_irq_save();
+        return v;
+    }
     case CI_RCC: return (uint32_t)t->cor;
     case CI_RPCC: return ext_pc[a].crossings;
     case CI_RPCI: return ext_pc[a].irqs;

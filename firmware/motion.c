@@ -174,7 +174,7 @@ void motion_plan(unsigned n, motion_plan_t *p)
 
 /* A protective stop of a running axis: its guards, what follows it, and
  * the tick's ramp with ed_t per tick^2 from the next tick on. */
-static void emergency_at(axis_t *x, uint8_t then, int32_t ed_t)
+FW_INLINE void emergency_at(axis_t *x, uint8_t then, int32_t ed_t)
 {
     if (x->stop_then == STOP_NONE) {
         /* the runaway guard from the following error of the moment (stop_watch) */
