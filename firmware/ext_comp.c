@@ -314,7 +314,13 @@ int ext_comp_switch(unsigned a, uint32_t on)
             return ERR_LOGICAL;                   /* every entry first */
         if (t->on)
             return 0;
-        if (!ext_fits(t->rows ? EXT_W_TABLE2 : EXT_W_TABLE1))
+        /* a command, masked (cmd.c): the budget is main-loop state no
+         * interrupt reads, worked out with interrupts enabled (as
+         * ext_compare.c's ext_pc_arm) */
+        hal_irq_enable_all();
+        int fits = ext_fits(t->rows ? EXT_W_TABLE2 : EXT_W_TABLE1);
+        (void)hal_irq_save();
+        if (!fits)
             return ERR_LOGICAL;                   /* beyond the extensions' budget (ext.h) */
         unsigned prev = hal_irq_save();
         t->valid = 0;

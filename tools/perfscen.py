@@ -268,10 +268,12 @@ def commands(card, ms=1000):
         lines += ["send 2 WAP %d" % far, "send 2 MP", "send 2 E", "run 40", "send 2 %s" % m, "send 2 E", "run 200",
                   "send 2 C", "send 2 ME", "send 2 E", "run 20", "send 2 C"]
     lines += ["send 2 MRE", "send 2 E", "run 300", "send 2 ME", "send 2 E", "run 20"]
-    # a full compensation table (16 x 16 entries) and its checksum read
+    # a full compensation table (16 x 16 points, 255 entries) and its checksum read
     # (RCSM), a feedback entry set up: the extensions' longest commands
     lines += ["send 1 C", "send 1 WCRW 15", "send 1 WCCL 15", "send 1 WCRS 15000", "send 1 WCCS 15000",
-              "send 1 WCRA 0", "send 1 WCCA 1", "send 1 CDEF"] + ["send 1 CENT %d" % (k % 50) for k in range(256)]
+              "send 1 WCRA 0", "send 1 WCCA 1", "send 1 CDEF"] + ["send 1 CENT %d" % (k % 50) for k in range(255)]
+    # (CON 1 is not sent: the table's work after the ticks, masked slices of
+    # their own, is the extension scenarios' - perfscen.ext_cost)
     lines += ["send 1 RCSM", "run 20", "send 0 FBX 0", "send 0 FBS %d" % 0xE01110, "run 20", "send 0 FBS 0", "run 5"]
     # position compare armed on a moving axis (the extensions' set-up)
     lines += ["send 1 WPCN 100", "send 1 WPCE %d" % (tg[1] + 100000), "send 1 PCON 1", "run 20", "send 1 PCON 0"]
