@@ -64,13 +64,18 @@ int16_t servo_step_full(servo_state_t *s, const servo_gains_t *g, int32_t e);
 #include "mul16.h"
 
 /* e within +-e_lim, one unsigned compare on the common path (0 < e_lim <
- * 2^15, so e + e_lim wraps only from beyond the limit) */
+ * 2^15, so e + e_lim wraps only from beyond the limit).  The limit is
+ * loaded and extended once, in a data register (IN_REG: without it GCC 12
+ * copies the word first, 20 cycles a tick more); 2 e_lim is an ADD.L, not
+ * a field: servo_gains_t stays 32 bytes, eight long moves where the main
+ * loop copies it with interrupts masked (axis_set_gains). */
 FW_INLINE int16_t servo_e_limited(const servo_gains_t *g, int32_t e32)
 {
-    int32_t lim = g->e_lim;
+    uint32_t lim = (uint32_t)(int32_t)g->e_lim;
+    IN_REG(lim);
     int16_t e = (int16_t)e32;       /* first: the common case falls through */
-    if ((uint32_t)e32 + (uint32_t)lim > 2u * (uint32_t)lim)
-        e = (int16_t)(e32 < 0 ? -lim : lim);
+    if ((uint32_t)e32 + lim > lim + lim)
+        e = (int16_t)(e32 < 0 ? 0u - lim : lim);
     return e;
 }
 
@@ -90,9 +95,12 @@ FW_INLINE int16_t servo_filter(servo_state_t *s, const servo_gains_t *g,
 {
     int16_t e = servo_e_limited(g, e32);
     int16_t ep = s->e_prev;
-    int32_t u1 = muls16(e, g->ga) * 64;
-    if (g->ze)
-        u1 -= muls16(g->gzh, ep) * 64 + (muls16(ep, g->gzl) >> 2);
+    s->e_prev = e;
+    int32_t u1 = muls16(e, g->ga);
+    if (g->ze)                      /* one shift for both: |ga e - gzh e'| < 2^19 */
+        u1 = (u1 - muls16(g->gzh, ep)) * 64 - (muls16(ep, g->gzl) >> 2);
+    else
+        u1 *= 64;
     if (g->po) {
         int32_t a = s->u1;
         IN_REG(a);
@@ -109,26 +117,20 @@ FW_INLINE int16_t servo_filter(servo_state_t *s, const servo_gains_t *g,
     else if (u2 < g->u2_lo)
         u2 = g->u2_lo;
     s->u2 = u2;
-    s->e_prev = e;
+    s->u1 = u1;
     /* An output within its range (u2_lo/u2_hi: the range in Q8) means
      * |u1| < 2^21, so u1's bound below cannot apply: one compare on the
-     * common path, both bounds as they are beyond it. */
+     * common path. */
     int32_t t = u1 + u2 + 128;
-    if ((uint32_t)(t - g->u2_lo) <= (uint32_t)(g->u2_hi - g->u2_lo) + 255u) {
-        s->u1 = u1;
+    if ((uint32_t)(t - g->u2_lo) <= (uint32_t)(g->u2_hi - g->u2_lo) + 255u)
         return (int16_t)(t >> 8);
-    }
     /* bound the lag state to 2^15 LSB (Q8: 2^23), 16 times full scale: the
-     * DAC is saturated long before, and the bound keeps po u1 in MULS.W */
+     * DAC is saturated long before, and the bound keeps po u1 in MULS.W.
+     * A u1 beyond it saturates the output to the same side as the bounded
+     * one would (|u2| <= 2^19), so the output is the side of t. */
     if ((uint32_t)u1 + (uint32_t)SERVO_U1_MAX > 2u * SERVO_U1_MAX)
-        u1 = u1 < 0 ? -SERVO_U1_MAX : SERVO_U1_MAX;
-    s->u1 = u1;
-    int32_t u = (u1 + u2 + 128) >> 8;                /* to DAC LSB, rounded */
-    if (u > g->out_hi)
-        u = g->out_hi;
-    else if (u < g->out_lo)
-        u = g->out_lo;
-    return (int16_t)u;
+        s->u1 = u1 < 0 ? -SERVO_U1_MAX : SERVO_U1_MAX;
+    return (t >> 8) > g->out_hi ? g->out_hi : g->out_lo;   /* to DAC LSB, rounded */
 }
 
 /* One sampling period: the DAC word for following error e.  Inline, for the
@@ -140,25 +142,23 @@ FW_INLINE int16_t servo_step_k(servo_state_t *s, const servo_gains_t *g,
                                                                   int32_t e32)
 {
     int16_t e = servo_e_limited(g, e32);
+    s->e_prev = e;
     /* <ga> the MULS.W's source: its time follows the source's bits, and a
      * gain has fewer bit changes than a following error */
     int32_t u1 = muls16(e, g->ga) * 64;
-    int32_t t = u1 + s->u2 + 128;
-    s->e_prev = e;
-    /* One unsigned compare on the common path: an output within the DAC
-     * range means |u1| < 2^21 (u2 is kept within it), so u1's bound below
-     * cannot apply; else both bounds as they are. */
-    if ((uint32_t)(t - SERVO_OUT_MIN * 256) <= (uint32_t)(SERVO_OUT_MAX - SERVO_OUT_MIN) * 256 + 255) {
-        s->u1 = u1;
-        return (int16_t)(t >> 8);
-    }
-    if ((uint32_t)(u1 + SERVO_U1_MAX) > 2u * SERVO_U1_MAX)
-        u1 = u1 < 0 ? -SERVO_U1_MAX : SERVO_U1_MAX;
     s->u1 = u1;
-    int32_t u = (u1 + s->u2 + 128) >> 8;        /* u2 is kept within the DAC range */
-    if ((uint32_t)(u - SERVO_OUT_MIN) > (uint32_t)(SERVO_OUT_MAX - SERVO_OUT_MIN))
-        u = u < 0 ? SERVO_OUT_MIN : SERVO_OUT_MAX;
-    return (int16_t)u;
+    /* u = (u1 + u2 + 128) >> 8 as ((u1 + u2) >> 4) + 8, then >> 4 (the same
+     * floor): w fits a word exactly when u is within the DAC range, one
+     * compare on the common path.  There |u1| < 2^21 (u2 is kept within
+     * the range), so u1's bound below cannot apply. */
+    int32_t w = ((u1 + s->u2) >> 4) + 8;
+    if (w == (int16_t)w)
+        return (int16_t)((int16_t)w >> 4);
+    /* Saturated.  A u1 beyond its bound saturates the output to the same
+     * side as the bounded u1 would (|u2| <= 2^19): the side of w. */
+    if ((uint32_t)u1 + (uint32_t)SERVO_U1_MAX > 2u * SERVO_U1_MAX)
+        s->u1 = u1 < 0 ? -SERVO_U1_MAX : SERVO_U1_MAX;
+    return w < 0 ? SERVO_OUT_MIN : SERVO_OUT_MAX;
 }
 
 FW_INLINE int16_t servo_step(servo_state_t *s, const servo_gains_t *g,

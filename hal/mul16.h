@@ -24,8 +24,10 @@ static inline uint32_t mulu16(uint16_t a, uint16_t b)
 static inline int32_t muls16(int16_t a, int16_t b)
 {
 #if defined(HAL_TARGET)
-    int32_t r = a;
-    __asm__("muls.w %1, %0" : "+d"(r) : "dmi"(b) : "cc");
+    /* a in the product's register as a word: MULS.W reads only its low
+     * half, so no EXT.L before it */
+    int32_t r;
+    __asm__("muls.w %2, %0" : "=d"(r) : "0"(a), "dmi"(b) : "cc");
     return r;
 #else
     return (int32_t)a * b;

@@ -38,10 +38,10 @@ SERVO, STP, ALL = ("inc", "ssi"), ("stp",), ("inc", "ssi", "stp")
 # (name, file, text, replacement, cards, why it may survive or None)
 MUTATIONS = [
     # the servo filter (5.16): every term
-    ("servo-gain", "firmware/servo.h", "int32_t u1 = muls16(e, g->ga) * 64;\n    if (g->ze)",
-     "int32_t u1 = muls16(e, g->ga) * 65;\n    if (g->ze)", SERVO, None),
-    ("servo-gain-k", "firmware/servo.h", "int32_t u1 = muls16(e, g->ga) * 64;\n    int32_t t",
-     "int32_t u1 = muls16(e, g->ga) * 63;\n    int32_t t", SERVO, None),
+    ("servo-gain", "firmware/servo.h", "int32_t u1 = muls16(e, g->ga);\n    if (g->ze)",
+     "int32_t u1 = muls16(e, g->ga) + e;\n    if (g->ze)", SERVO, None),
+    ("servo-gain-k", "firmware/servo.h", "int32_t u1 = muls16(e, g->ga) * 64;\n    s->u1 = u1;",
+     "int32_t u1 = muls16(e, g->ga) * 63;\n    s->u1 = u1;", SERVO, None),
     ("servo-zero", "firmware/servo.c", "g->gzh = (int16_t)(gz >> 8);", "g->gzh = (int16_t)((gz >> 8) + 1);",
      SERVO, None),
     ("servo-zero-round", "firmware/servo.h", "(muls16(ep, g->gzl) >> 2)", "(muls16(ep, g->gzl) >> 3)", SERVO, None),
