@@ -51,8 +51,10 @@ typedef struct {
         int16_t out;        /* DAC word (INC/SSI) or step rate (STP) */
     };
     /* position measurement: the tick writes meas, raw and counter (measure.h,
-     * stepper.c's increment conversion); the supervision after it vel and
-     * RED's raw on the counter path (supervise.c); pos, meas_sup and mk_tick
+     * stepper.c's increment conversion; raw and counter through measure.h
+     * measure_raw_take, also the STP's stepper.h); the supervision after it
+     * vel and RED's raw on the counter path (supervise.c, through measure.h
+     * measure_vel_set and measure_red_counter); INIT zeroes vel; pos, meas_sup and mk_tick
      * are axis.c's (axis_set_pos; axis.h's axis_supervised_at and
      * axis_follow_init, which the supervision inlines, and axis_measure_off
      * at a reset and INIT); a compensation table (ext_comp.c) moves meas, and
@@ -62,11 +64,11 @@ typedef struct {
         int32_t pos;        /* actual position: measured + <ao> (RCP) */
         /* writers: measure.c measure.h stepper.c ext_comp.c */
         int32_t meas;       /* measured position without offset */
-        /* writers: measure.c measure.h stepper.h supervise.c */
+        /* writers: measure.c measure.h */
         uint32_t raw;       /* last raw value read (RED) */
-        /* writers: measure.c measure.h stepper.h */
+        /* writers: measure.c measure.h */
         uint32_t counter;   /* last processed counter content (RCT) */
-        /* writers: supervise.c measure.c */
+        /* writers: measure.c measure.h */
         int32_t vel;        /* actual velocity per servo period (RAV) */
         /* writers: axis.h */
         int32_t meas_sup;   /* meas at the last supervision: RAV of the counter path */
@@ -201,10 +203,11 @@ typedef struct {
     };
     /* position controller (servo.c): the gains axis.c's alone
      * (axis_set_gains, at E masked), the filter's state the tick's
-     * (servo_reset at E) */
+     * (tick_servo.c; motion.c resets it at E through tick_servo.h
+     * tick_servo_reset, masked) */
     /* writers: axis.c */
     servo_gains_t gains;
-    /* writers: tick_servo.c motion.c */
+    /* writers: tick_servo.c tick_servo.h */
     servo_state_t servo;
     /* the tick's and the supervision's copies of parameters, prepared by
      * axis.c (axis_prepare, axis_prepare_mode) at INIT and E so that neither

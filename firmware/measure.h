@@ -238,15 +238,36 @@ FW_INLINE void measure_apply_k(axis_t *x, int32_t d, int linear)
 
 FW_INLINE void measure_apply(axis_t *x, int32_t d) { measure_apply_k(x, d, 0); }
 
+/* An external reading raw as the last one read (RED) and processed (RCT):
+ * the tick's, here and in the STP's stepper.h stp_measure_ext. */
+FW_INLINE void measure_raw_take(axis_t *x, uint32_t raw)
+{
+    x->raw = raw;
+    x->counter = raw;
+}
+
 /* A valid reading raw into the measured position: the motion since the
  * last reading (measure_delta), then raw and counter.  abs_linear, a
  * constant: the axis is absolute and linear (the reading is the position). */
 FW_INLINE void measure_ext_take(axis_t *x, const meas_cfg_t *c, uint32_t raw, int abs_linear)
 {
     int32_t d = measure_delta_k(x, c, raw, abs_linear);
-    x->raw = raw;
-    x->counter = raw;
+    measure_raw_take(x, raw);
     measure_apply_k(x, d, abs_linear);
+}
+
+/* What the supervision (card_supervise, once per tick) derives from the
+ * tick's measurement, so that the tick keeps only meas and the counter:
+ * RAV, the motion since the last supervision ... */
+FW_INLINE void measure_vel_set(axis_t *x, int32_t vel)
+{
+    x->vel = vel;
+}
+
+/* ... and RED on the counter path, the counter's content. */
+FW_INLINE void measure_red_counter(axis_t *x)
+{
+    x->raw = x->counter;
 }
 
 #endif

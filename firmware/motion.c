@@ -27,6 +27,7 @@
 #include "motion_priv.h"
 #include "measure.h"
 #include "ext.h"
+#include "tick_servo.h"
 
 /* vq(): the card variant's (servo_motion.c, stp_motion.c). */
 
@@ -201,7 +202,7 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
     axis_t *x = axis_at[n];
     if (from == M_DISABLE || from == M_TEST) {
         motion_hold(n);                          /* no jump when the drive comes on */
-        servo_reset(&x->servo);
+        tick_servo_reset(x);
     }
     x->done = 0;
     x->phase = 0;

@@ -190,8 +190,7 @@ FW_INLINE void stp_measure_ext(axis_t *x, meas_cfg_t *c, unsigned n)
         return;
     /* absolute: the reading against the counter in its increments */
     int32_t d = c->abs ? (int32_t)(raw - (uint32_t)stp_counts_at(x, &stp_ax[n], n)) : measure_delta(x, c, raw);
-    x->raw = raw;
-    x->counter = raw;
+    measure_raw_take(x, raw);
     measure_apply(x, measure_steps(x, n, d));
 }
 int32_t stp_edge(unsigned n, int32_t d);      /* index latched d counts from here: steps */

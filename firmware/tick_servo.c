@@ -14,6 +14,7 @@
 #include "measure.h"
 #include "tick.h"
 #include "servo_card.h"
+#include "tick_servo.h"
 
 /* The tick does only what must happen at the sampling instant (7.4):
  * measure, interpolate the setpoint, filter, drive the outputs.  Everything
