@@ -42,12 +42,13 @@ typedef struct {
         uint8_t next_mode;  /* mode selected for the next E, or NO_MODE */
     };
     /* outputs: the shadow of AX_CTRL is written with every write of the
-     * register (axis.c, ssi_meas.c, tick.h axis_output_at, the level 5 handler, the STP's
-     * stp_rate.c), masked or in an interrupt; `out` by the tick alone */
+     * register, masked or in an interrupt, through card.h axis_ctrl_set
+     * (which names the contexts); `out` by the output stage alone (tick.h:
+     * the tick, axis_disable, the reset) */
     struct {
-        /* writers: card.c supervise.c tick.h tick_stp.c stp_rate.c servo_card.h stp_rate.h ssi_meas.c */
+        /* writers: card.h */
         uint16_t ctrl;      /* shadow of AX_CTRL */
-        /* writers: tick.h tick_servo.c tick_stp.c card.c */
+        /* writers: tick.h */
         int16_t out;        /* DAC word (INC/SSI) or step rate (STP) */
     };
     /* position measurement: the tick writes meas, raw and counter (measure.h,
@@ -263,6 +264,15 @@ static inline void split_q16(int64_t q, int32_t *i, uint16_t *f)
     *i = (int32_t)(q >> 16);
     *f = (uint16_t)q;
 }
+
+/* The shadow of AX_CTRL, its one write: every context that writes the
+ * register writes it here too - the reset and the tick's output stage
+ * (tick.h), /EN at a mode change (servo_card.h axis_mode_card), the SSI
+ * receiver's sync at INIT (ssi_meas.c), the STP's creep interrupts
+ * (stp_rate.c, the level 5 handler stp_rate.h stp_isr_axis) and the
+ * index interrupt's fault path (supervise.c) - masked or in an interrupt,
+ * so it is one register's copy, not a part each of them owns. */
+FW_INLINE void axis_ctrl_set(axis_t *x, uint16_t ctrl) { x->ctrl = ctrl; }
 
 /* The tick's own brake keeps its Q16 position plus one half (br_posh), so
  * that bits 16-47 are the rounded setpoint, one 32-bit part of it: these

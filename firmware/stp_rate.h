@@ -143,7 +143,7 @@ FW_INLINE void stp_isr_axis(unsigned k, unsigned p)
     uint16_t ack = AX_CTRL_PULSE_ACK;
     if (p & (0x10u << k)) {                      /* the last one is out */
         ack = AX_CTRL_PULSE_ACK | AX_CTRL_DONE_ACK;
-        x->ctrl = (uint16_t)(x->ctrl & ~(AX_CTRL_PULSE_IE | AX_CTRL_DONE_IE));
+        axis_ctrl_set(x, (uint16_t)(x->ctrl & ~(AX_CTRL_PULSE_IE | AX_CTRL_DONE_IE)));
         s->counted = s->creep_n;
         s->hw_done = 1;
     } else {                                     /* every pulse: count it (5.6) */

@@ -202,7 +202,7 @@ HAL_ISR void fw_isr_axis(void)
         return;
     for (unsigned n = 0; n < MAC4_NAXES; n++)
         if (pending & (1u << n)) {
-            axes[n].ctrl = (uint16_t)(axes[n].ctrl & ~AX_CTRL_IDX_IE);
+            axis_ctrl_set(&axes[n], (uint16_t)(axes[n].ctrl & ~AX_CTRL_IDX_IE));
             hal_wr16(AX_REG(n, AX_CTRL), axes[n].ctrl);
         }
 }

@@ -32,6 +32,33 @@ FW_INLINE void brake_step(axis_t *x, int32_t v)
     x->br_posh += v;
 }
 
+/* The output stage's one write of AX_CTRL and AX_DAC, with their copies
+ * ctrl and out: the tick's (tick_stp.c's running axis, axis_output_x) ... */
+FW_INLINE void axis_output_write(axis_t *x, unsigned n, uint16_t ctrl, int32_t out)
+{
+    axis_ctrl_set(x, ctrl);
+    x->out = (int16_t)out;
+    hal_wr16(AX_REG(n, AX_CTRL), ctrl);
+    hal_wr16(AX_REG(n, AX_DAC), (uint16_t)out);
+}
+
+/* ... the DAC alone (tick_servo.c: /EN follows the mode, axis_mode_card) ... */
+FW_INLINE void axis_dac_write(axis_t *x, unsigned n, int16_t out)
+{
+    x->out = out;
+    hal_wr16(AX_REG(n, AX_DAC), (uint16_t)out);
+}
+
+/* ... and both off at a reset (card.c, before the timer runs; Tables 2.2,
+ * 2.6, 2.12: /EN open, DAC 0 V or no pulses, DIR and BOOST open collector). */
+FW_INLINE void axis_output_off(axis_t *x, unsigned n)
+{
+    axis_ctrl_set(x, 0);
+    x->out = 0;
+    hal_wr16(AX_REG(n, AX_CTRL), 0);
+    hal_wr16(AX_REG(n, AX_DAC), 0);
+}
+
 /* The outputs of axis n: /EN from the mode, and the DAC word (INC/SSI) or,
  * on the STP, DIR, BOOST, TURBO and the step rate register prepared by
  * stp_rate.h (stp_output; `out` is not used: the rate is exact to the Q16
@@ -43,10 +70,7 @@ FW_INLINE void axis_output_x(axis_t *x, unsigned n, int32_t out)
         ctrl |= AX_CTRL_EN;
     if (MAC4_CARD == MAC4_CARD_STP)
         out = stp_output(n, x->mode, &ctrl);
-    x->ctrl = ctrl;
-    x->out = (int16_t)out;
-    hal_wr16(AX_REG(n, AX_CTRL), ctrl);
-    hal_wr16(AX_REG(n, AX_DAC), (uint16_t)out);
+    axis_output_write(x, n, ctrl, out);
 }
 
 /* ... of axis n, the axis looked up */
