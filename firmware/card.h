@@ -133,9 +133,10 @@ typedef struct {
         int32_t br_ssf;                 /* STP: <ssf> per tick, Q16: from there it stops at once */
         volatile uint8_t braking;
         /* STP: the body of the tick that runs the axis (STP_PATH_*), which
-         * follows the mode and braking: stepper.h stp_path_set, called by
-         * their writers (axis_set_mode; brake_now, brake_done, motion_hold) */
-        /* writers: stepper.h stp_variant.h */
+         * follows the mode and braking: stepper.h stp_path_set (_for), called
+         * by their writers (axis_set_mode through stp_variant.h
+         * axis_mode_card; brake_now, brake_done, motion_hold) */
+        /* writers: stepper.h */
         uint8_t stp_path;
         /* INC/SSI: the same (SERVO_PATH_*), which also follows the gains (K
          * only or the general filter): servo_card.h servo_path_set, called by
