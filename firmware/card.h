@@ -125,12 +125,18 @@ typedef struct {
      * generator's next SP (protective reactions, stop bits): motion.c sets it
      * up (brake_now, masked) and ends it (brake_done); the tick steps br_v
      * and br_posh (tick.h brake_step) from the setpoint and speed of the
-     * moment, with <ed> (or <pd>) per tick^2 */
+     * moment, with <ed> (or <pd>) per tick^2.  The ramp's position and
+     * speed are tick.h's (brake_start, brake_step), its deceleration and
+     * the flag motion.c's, the STP's <ssf> stp_motion.h's (brake_from_card) */
     struct {
-        /* writers: motion.c tick.h card.h stp_motion.h */
+        /* writers: tick.h */
         int64_t br_posh;                /* setpoint, Q16, plus one half: bits 16-47 the rounded setpoint */
-        int32_t br_v, br_dec;           /* Q16 per tick (0 once the ramp has ended), per tick^2 (>= 1) */
+        int32_t br_v;                   /* Q16 per tick (0 once the ramp has ended) */
+        /* writers: motion.c */
+        int32_t br_dec;                 /* Q16 per tick^2 (>= 1) */
+        /* writers: stp_motion.h */
         int32_t br_ssf;                 /* STP: <ssf> per tick, Q16: from there it stops at once */
+        /* writers: motion.c */
         volatile uint8_t braking;
         /* STP: the body of the tick that runs the axis (STP_PATH_*), which
          * follows the mode and braking: stepper.h stp_path_set (_for), called
@@ -277,9 +283,9 @@ FW_INLINE void axis_ctrl_set(axis_t *x, uint16_t ctrl) { x->ctrl = ctrl; }
 
 /* The tick's own brake keeps its Q16 position plus one half (br_posh), so
  * that bits 16-47 are the rounded setpoint, one 32-bit part of it: these
- * are the only readers and the writer of that representation. */
+ * are the only readers of that representation, tick.h's brake_start and
+ * brake_step its writers. */
 #define BR_HALF 0x8000u
-static inline void brake_set_pos(axis_t *x, int64_t q16) { x->br_posh = q16 + BR_HALF; }
 static inline int64_t brake_pos(const axis_t *x) { return x->br_posh - BR_HALF; }
 FW_INLINE int32_t brake_setpoint(const axis_t *x)
 {

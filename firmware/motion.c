@@ -27,6 +27,7 @@
 #include "motion_priv.h"
 #include "measure.h"
 #include "ext.h"
+#include "tick.h"
 #include "tick_servo.h"
 
 /* vq(): the card variant's (servo_motion.c, stp_motion.c). */
@@ -122,8 +123,7 @@ static void brake_now(axis_t *x, int32_t d)
     int64_t pos;
     int32_t v;
     brake_from_card(x, &pos, &v);                /* the setpoint and its speed per tick */
-    brake_set_pos(x, pos);
-    x->br_v = v;
+    brake_start(x, pos, v);                      /* tick.h: the ramp is the tick's */
     x->nx_ready = 0;
     x->braking = 1;
     motion_path_set(x);

@@ -13,8 +13,16 @@
 #include "stepper.h"
 #include "stp_rate.h"
 
-/* The tick's own braking ramp (motion.c brake_now): the speed of this
- * tick, br_dec closer to 0 ... */
+/* The tick's own braking ramp starts (motion.c brake_now, masked) at the
+ * Q16 setpoint q16 and speed v of the moment ... */
+static inline void brake_start(axis_t *x, int64_t q16, int32_t v)
+{
+    x->br_posh = q16 + BR_HALF;
+    x->br_v = v;
+}
+
+/* ... and the tick steps it: the speed of this tick, br_dec closer to
+ * 0 ... */
 FW_INLINE int32_t brake_slower(const axis_t *x)
 {
     int32_t v = x->br_v, dv = x->br_dec;
