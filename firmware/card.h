@@ -77,9 +77,10 @@ typedef struct {
         uint8_t mk_tick;    /* what the tick measures: mk once initialised, else MK_NONE (card_supervise) */
     };
     /* the setpoint and following error the tick used: the supervision's on
-     * the INC/SSI (supervise.c tick_result), the tick's on the STP
-     * (tick_stp.c, stepper.h) */
-    /* writers: tick_stp.c stp_rate.c servo_card.h stp_rate.h */
+     * the INC/SSI (servo_card.h tick_result), the tick's on the STP
+     * (tick_stp.c, stp_rate.*), all through card.h axis_result_set and
+     * axis_result_idle */
+    /* writers: card.h */
     struct {
         int32_t setpoint;
         int32_t ferr;
@@ -265,6 +266,22 @@ typedef struct {
  * modulo 2^32, without C's undefined signed overflow. */
 static inline int32_t pos_sub(int32_t a, int32_t b) { return (int32_t)((uint32_t)a - (uint32_t)b); }
 static inline int32_t pos_add(int32_t a, int32_t b) { return (int32_t)((uint32_t)a + (uint32_t)b); }
+
+/* The setpoint and following error the tick used, their one write: the
+ * supervision's on the INC/SSI (servo_card.h tick_result), the tick's on
+ * the STP (tick_stp.c, the rate stage stp_rate.*), one card's at a time -
+ * the setpoint sp against the measurement, or the measurement itself (a
+ * disabled axis follows no setpoint). */
+FW_INLINE void axis_result_set(axis_t *x, int32_t sp)
+{
+    x->setpoint = sp;
+    x->ferr = pos_sub(sp, x->meas);
+}
+FW_INLINE void axis_result_idle(axis_t *x)
+{
+    x->setpoint = x->meas;
+    x->ferr = 0;
+}
 /* A Q16 position as the tick's integer part and fraction. */
 static inline void split_q16(int64_t q, int32_t *i, uint16_t *f)
 {

@@ -58,11 +58,9 @@ FW_INLINE int card_led_fault(const axis_t *x) { (void)x; return 0; }
 FW_INLINE void tick_result(axis_t *x, unsigned ph)
 {
     if (x->mode == M_DISABLE) {
-        x->setpoint = x->meas;
-        x->ferr = 0;
+        axis_result_idle(x);
     } else if (x->mode != M_TEST) {
-        x->setpoint = x->braking ? brake_setpoint(x) : x->sp_now[ph];
-        x->ferr = pos_sub(x->setpoint, x->meas);
+        axis_result_set(x, x->braking ? brake_setpoint(x) : x->sp_now[ph]);
     }
 }
 /* Level 5: the servo cards have no step pulses. */

@@ -120,8 +120,7 @@ FW_INLINE int creep_tick(axis_t *x, stp_t *s, unsigned n, unsigned phase,
     uint32_t reg = AX_REG(n, 0);
     if (s->creep == CREEP_TRIM) {
         if (x->sp_i == old_i && x->sp_f == old_f && !(x->in & AX_IN_PDONE)) {
-            x->setpoint = pos_add(old_i, old_f >= 0x8000u);
-            x->ferr = pos_sub(x->setpoint, x->meas);
+            axis_result_set(x, pos_add(old_i, old_f >= 0x8000u));
             return 1;                            /* the trim's pulses still to come */
         }
         creep_stop(x, s, reg);                   /* done, or the profile moves on */
@@ -148,8 +147,7 @@ FW_INLINE int creep_tick(axis_t *x, stp_t *s, unsigned n, unsigned phase,
         left = hal_rd16(reg + AX_PULSES);
     }
     int32_t done = (int32_t)(s->creep_n - left);
-    x->setpoint = pos_add(s->creep_base, s->creep_dir < 0 ? -done : done);
-    x->ferr = pos_sub(x->setpoint, x->meas);
+    axis_result_set(x, pos_add(s->creep_base, s->creep_dir < 0 ? -done : done));
     return 1;
 }
 

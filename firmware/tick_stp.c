@@ -68,8 +68,7 @@ FW_INLINE void stp_axis(unsigned n, unsigned phase, unsigned path)
     PIN_PTR(s);
     if (path == STP_PATH_IDLE) {
         if (x->mode == M_DISABLE) {
-            x->setpoint = x->meas;
-            x->ferr = 0;
+            axis_result_idle(x);
         }
         axis_output_at(n, 0);   /* the step rate and DIR, BOOST, TURBO (stp_output); test mode: <da> in Hz */
         return;
