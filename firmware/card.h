@@ -51,19 +51,22 @@ typedef struct {
         /* writers: tick.h */
         int16_t out;        /* DAC word (INC/SSI) or step rate (STP) */
     };
-    /* position measurement: the tick writes meas, raw and counter (measure.h,
-     * stepper.c's increment conversion; raw and counter through measure.h
-     * measure_raw_take, also the STP's stepper.h); the supervision after it
-     * vel and RED's raw on the counter path (supervise.c, through measure.h
-     * measure_vel_set and measure_red_counter); INIT zeroes vel; pos, meas_sup and mk_tick
-     * are axis.c's (axis_set_pos; axis.h's axis_supervised_at and
-     * axis_follow_init, which the supervision inlines, and axis_measure_off
-     * at a reset and INIT); a compensation table (ext_comp.c) moves meas, and
-     * meas_sup and pos with it (axis.h axis_moved_by), masked */
+    /* position measurement, the measurement's (measure.c, measure.h): the
+     * tick moves pos and meas and writes raw and counter (measure.h; the
+     * STP's stepper.h through measure_raw_take); the supervision after it
+     * derives vel and RED's raw on the counter path (supervise.c through
+     * measure_vel_set, measure_red_counter); INIT starts them afresh and
+     * measure_set_pos sets pos from meas and <ao> (main loop); a
+     * compensation table (ext_comp.c) moves meas, and pos with it (axis.h
+     * axis_moved_by), masked, through measure_meas_set and measure_pos_set,
+     * and the STP's INIT converts meas to steps (stepper.c) the same way.  meas_sup and mk_tick
+     * are axis.c's (axis.h's axis_supervised_at and axis_follow_init, which
+     * the supervision inlines, axis_moved_by, and axis_measure_off at a
+     * reset and INIT) */
     struct {
-        /* writers: axis.c axis.h measure.h */
+        /* writers: measure.h */
         int32_t pos;        /* actual position: measured + <ao> (RCP) */
-        /* writers: measure.c measure.h stepper.c ext_comp.c */
+        /* writers: measure.c measure.h */
         int32_t meas;       /* measured position without offset */
         /* writers: measure.c measure.h */
         uint32_t raw;       /* last raw value read (RED) */
@@ -362,7 +365,6 @@ static inline int axis_initialised(unsigned n) { return (axes[n].ustat & UB(INIT
 void axis_init_measurement(unsigned n);    /* INIT: derive ea/eb/ec, zero relative position */
 void axis_prepare(unsigned n);             /* main loop: refresh the tick's copies */
 void axis_prepare_mode(unsigned n);        /* ... of the mode parameters alone (E, initialised) */
-void axis_set_pos(unsigned n);             /* main loop: pos from meas and <ao>, wrapped */
 /* axis.h: the writes of axis.c's parts that the commands, the supervision and the extensions make, inline */
 
 /* VMEbus interrupts (4.6): vector 0 = off. */

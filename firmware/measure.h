@@ -8,6 +8,7 @@
 #include "params.h"
 
 void measure_init(unsigned n);     /* INIT: derive <ea>/<eb>/<ec>, zero relative position */
+void measure_set_pos(unsigned n);  /* main loop: pos from meas and <ao>, wrapped */
 /* May an external position (<et> 3/4) be read at <ea> with <eb> significant
  * bits (eb 0: not known yet)?  The rule of docs/interpretations.md. */
 int measure_ea_ok(uint32_t ea, int32_t eb);
@@ -219,6 +220,15 @@ FW_INLINE int32_t measure_counter(axis_t *x, unsigned n)
     x->counter = (c + (uint32_t)d) & 0xFFFFFFu;
     return d;
 }
+
+/* The measured position and the displayed one are the measurement's: the
+ * tick moves them (measure_apply_k), the main loop sets the position from
+ * meas and <ao> (measure.c measure_set_pos); outside the tick, masked, a
+ * compensation table moves meas (ext_comp.c) and the position with it
+ * (axis.h axis_moved_by), and the STP's INIT converts meas to steps
+ * (stepper.c). */
+FW_INLINE void measure_pos_set(axis_t *x, int32_t pos) { x->pos = pos; }
+FW_INLINE void measure_meas_set(axis_t *x, int32_t meas) { x->meas = meas; }
 
 /* The motion d into the measured position and the displayed one, which a
  * circular axis keeps in 0 .. <cr>-1 (4.3.1.2).  RAV: card_supervise.
