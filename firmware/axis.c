@@ -83,15 +83,3 @@ void axis_prepare(unsigned n)
             x->sw_inv |= bits[i];
     }
 }
-
-void axis_set_pos(unsigned n)
-{
-    axis_t *x = &axes[n];
-    int32_t pos = pos_add(x->meas, PAR(n, AO));
-    if (!x->linear) {
-        pos %= x->cr;          /* main loop only: a division is fine here */
-        if (pos < 0)
-            pos += x->cr;
-    }
-    x->pos = pos;
-}

@@ -94,7 +94,7 @@ FW_INLINE void axis_moved_by(axis_t *x, int32_t d)
         while (pos < 0)
             pos += x->cr;
     }
-    x->pos = pos;
+    measure_pos_set(x, pos);
 }
 
 /* ---- the mode ---------------------------------------------------------- */

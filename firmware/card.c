@@ -10,6 +10,7 @@
 #include "hal.h"
 #include "card.h"
 #include "axis.h"
+#include "tick.h"
 #include "cmd.h"
 #include "params.h"
 #include "serial.h"
@@ -30,12 +31,7 @@ uint8_t card_servo_general;
 
 static void axis_outputs_reset(unsigned n)
 {
-    /* Tables 2.2, 2.6, 2.12: enable off (/EN open), DAC 0 V or no pulses,
-     * DIR and BOOST open collector. */
-    axes[n].ctrl = 0;
-    axes[n].out = 0;
-    hal_wr16(AX_REG(n, AX_CTRL), 0);
-    hal_wr16(AX_REG(n, AX_DAC), 0);
+    axis_output_off(&axes[n], n);                 /* tick.h: /EN open, 0 V or no pulses */
 }
 
 void card_reset(void)

@@ -42,31 +42,37 @@ typedef struct {
         uint8_t next_mode;  /* mode selected for the next E, or NO_MODE */
     };
     /* outputs: the shadow of AX_CTRL is written with every write of the
-     * register (axis.c, ssi_meas.c, tick.h axis_output_at, the level 5 handler, the STP's
-     * stp_rate.c), masked or in an interrupt; `out` by the tick alone */
+     * register, masked or in an interrupt, through card.h axis_ctrl_set
+     * (which names the contexts); `out` by the output stage alone (tick.h:
+     * the tick, axis_disable, the reset) */
     struct {
-        /* writers: card.c supervise.c tick.h tick_stp.c stp_rate.c servo_card.h stp_rate.h ssi_meas.c */
+        /* writers: card.h */
         uint16_t ctrl;      /* shadow of AX_CTRL */
-        /* writers: tick.h tick_servo.c tick_stp.c card.c */
+        /* writers: tick.h */
         int16_t out;        /* DAC word (INC/SSI) or step rate (STP) */
     };
-    /* position measurement: the tick writes meas, raw and counter (measure.h,
-     * stepper.c's increment conversion); the supervision after it vel and
-     * RED's raw on the counter path (supervise.c); pos, meas_sup and mk_tick
-     * are axis.c's (axis_set_pos; axis.h's axis_supervised_at and
-     * axis_follow_init, which the supervision inlines, and axis_measure_off
-     * at a reset and INIT); a compensation table (ext_comp.c) moves meas, and
-     * meas_sup and pos with it (axis.h axis_moved_by), masked */
+    /* position measurement, the measurement's (measure.c, measure.h): the
+     * tick moves pos and meas and writes raw and counter (measure.h; the
+     * STP's stepper.h through measure_raw_take); the supervision after it
+     * derives vel and RED's raw on the counter path (supervise.c through
+     * measure_vel_set, measure_red_counter); INIT starts them afresh and
+     * measure_set_pos sets pos from meas and <ao> (main loop); a
+     * compensation table (ext_comp.c) moves meas, and pos with it (axis.h
+     * axis_moved_by), masked, through measure_meas_set and measure_pos_set,
+     * and the STP's INIT converts meas to steps (stepper.c) the same way.  meas_sup and mk_tick
+     * are axis.c's (axis.h's axis_supervised_at and axis_follow_init, which
+     * the supervision inlines, axis_moved_by, and axis_measure_off at a
+     * reset and INIT) */
     struct {
-        /* writers: axis.c axis.h measure.h */
+        /* writers: measure.h */
         int32_t pos;        /* actual position: measured + <ao> (RCP) */
-        /* writers: measure.c measure.h stepper.c ext_comp.c */
+        /* writers: measure.c measure.h */
         int32_t meas;       /* measured position without offset */
-        /* writers: measure.c measure.h stepper.h supervise.c */
+        /* writers: measure.c measure.h */
         uint32_t raw;       /* last raw value read (RED) */
-        /* writers: measure.c measure.h stepper.h */
+        /* writers: measure.c measure.h */
         uint32_t counter;   /* last processed counter content (RCT) */
-        /* writers: supervise.c measure.c */
+        /* writers: measure.c measure.h */
         int32_t vel;        /* actual velocity per servo period (RAV) */
         /* writers: axis.h */
         int32_t meas_sup;   /* meas at the last supervision: RAV of the counter path */
@@ -74,9 +80,10 @@ typedef struct {
         uint8_t mk_tick;    /* what the tick measures: mk once initialised, else MK_NONE (card_supervise) */
     };
     /* the setpoint and following error the tick used: the supervision's on
-     * the INC/SSI (supervise.c tick_result), the tick's on the STP
-     * (tick_stp.c, stepper.h) */
-    /* writers: tick_stp.c stp_rate.c servo_card.h stp_rate.h */
+     * the INC/SSI (servo_card.h tick_result), the tick's on the STP
+     * (tick_stp.c, stp_rate.*), all through card.h axis_result_set and
+     * axis_result_idle */
+    /* writers: card.h */
     struct {
         int32_t setpoint;
         int32_t ferr;
@@ -122,17 +129,24 @@ typedef struct {
      * generator's next SP (protective reactions, stop bits): motion.c sets it
      * up (brake_now, masked) and ends it (brake_done); the tick steps br_v
      * and br_posh (tick.h brake_step) from the setpoint and speed of the
-     * moment, with <ed> (or <pd>) per tick^2 */
+     * moment, with <ed> (or <pd>) per tick^2.  The ramp's position and
+     * speed are tick.h's (brake_start, brake_step), its deceleration and
+     * the flag motion.c's, the STP's <ssf> stp_motion.h's (brake_from_card) */
     struct {
-        /* writers: motion.c tick.h card.h stp_motion.h */
+        /* writers: tick.h */
         int64_t br_posh;                /* setpoint, Q16, plus one half: bits 16-47 the rounded setpoint */
-        int32_t br_v, br_dec;           /* Q16 per tick (0 once the ramp has ended), per tick^2 (>= 1) */
+        int32_t br_v;                   /* Q16 per tick (0 once the ramp has ended) */
+        /* writers: motion.c */
+        int32_t br_dec;                 /* Q16 per tick^2 (>= 1) */
+        /* writers: stp_motion.h */
         int32_t br_ssf;                 /* STP: <ssf> per tick, Q16: from there it stops at once */
+        /* writers: motion.c */
         volatile uint8_t braking;
         /* STP: the body of the tick that runs the axis (STP_PATH_*), which
-         * follows the mode and braking: stepper.h stp_path_set, called by
-         * their writers (axis_set_mode; brake_now, brake_done, motion_hold) */
-        /* writers: stepper.h stp_variant.h */
+         * follows the mode and braking: stepper.h stp_path_set (_for), called
+         * by their writers (axis_set_mode through stp_variant.h
+         * axis_mode_card; brake_now, brake_done, motion_hold) */
+        /* writers: stepper.h */
         uint8_t stp_path;
         /* INC/SSI: the same (SERVO_PATH_*), which also follows the gains (K
          * only or the general filter): servo_card.h servo_path_set, called by
@@ -201,10 +215,11 @@ typedef struct {
     };
     /* position controller (servo.c): the gains axis.c's alone
      * (axis_set_gains, at E masked), the filter's state the tick's
-     * (servo_reset at E) */
+     * (tick_servo.c; motion.c resets it at E through tick_servo.h
+     * tick_servo_reset, masked) */
     /* writers: axis.c */
     servo_gains_t gains;
-    /* writers: tick_servo.c motion.c */
+    /* writers: tick_servo.c tick_servo.h */
     servo_state_t servo;
     /* the tick's and the supervision's copies of parameters, prepared by
      * axis.c (axis_prepare, axis_prepare_mode) at INIT and E so that neither
@@ -254,6 +269,22 @@ typedef struct {
  * modulo 2^32, without C's undefined signed overflow. */
 static inline int32_t pos_sub(int32_t a, int32_t b) { return (int32_t)((uint32_t)a - (uint32_t)b); }
 static inline int32_t pos_add(int32_t a, int32_t b) { return (int32_t)((uint32_t)a + (uint32_t)b); }
+
+/* The setpoint and following error the tick used, their one write: the
+ * supervision's on the INC/SSI (servo_card.h tick_result), the tick's on
+ * the STP (tick_stp.c, the rate stage stp_rate.*), one card's at a time -
+ * the setpoint sp against the measurement, or the measurement itself (a
+ * disabled axis follows no setpoint). */
+FW_INLINE void axis_result_set(axis_t *x, int32_t sp)
+{
+    x->setpoint = sp;
+    x->ferr = pos_sub(sp, x->meas);
+}
+FW_INLINE void axis_result_idle(axis_t *x)
+{
+    x->setpoint = x->meas;
+    x->ferr = 0;
+}
 /* A Q16 position as the tick's integer part and fraction. */
 static inline void split_q16(int64_t q, int32_t *i, uint16_t *f)
 {
@@ -261,11 +292,20 @@ static inline void split_q16(int64_t q, int32_t *i, uint16_t *f)
     *f = (uint16_t)q;
 }
 
+/* The shadow of AX_CTRL, its one write: every context that writes the
+ * register writes it here too - the reset and the tick's output stage
+ * (tick.h), /EN at a mode change (servo_card.h axis_mode_card), the SSI
+ * receiver's sync at INIT (ssi_meas.c), the STP's creep interrupts
+ * (stp_rate.c, the level 5 handler stp_rate.h stp_isr_axis) and the
+ * index interrupt's fault path (supervise.c) - masked or in an interrupt,
+ * so it is one register's copy, not a part each of them owns. */
+FW_INLINE void axis_ctrl_set(axis_t *x, uint16_t ctrl) { x->ctrl = ctrl; }
+
 /* The tick's own brake keeps its Q16 position plus one half (br_posh), so
  * that bits 16-47 are the rounded setpoint, one 32-bit part of it: these
- * are the only readers and the writer of that representation. */
+ * are the only readers of that representation, tick.h's brake_start and
+ * brake_step its writers. */
 #define BR_HALF 0x8000u
-static inline void brake_set_pos(axis_t *x, int64_t q16) { x->br_posh = q16 + BR_HALF; }
 static inline int64_t brake_pos(const axis_t *x) { return x->br_posh - BR_HALF; }
 FW_INLINE int32_t brake_setpoint(const axis_t *x)
 {
@@ -325,7 +365,6 @@ static inline int axis_initialised(unsigned n) { return (axes[n].ustat & UB(INIT
 void axis_init_measurement(unsigned n);    /* INIT: derive ea/eb/ec, zero relative position */
 void axis_prepare(unsigned n);             /* main loop: refresh the tick's copies */
 void axis_prepare_mode(unsigned n);        /* ... of the mode parameters alone (E, initialised) */
-void axis_set_pos(unsigned n);             /* main loop: pos from meas and <ao>, wrapped */
 /* axis.h: the writes of axis.c's parts that the commands, the supervision and the extensions make, inline */
 
 /* VMEbus interrupts (4.6): vector 0 = off. */

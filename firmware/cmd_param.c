@@ -56,7 +56,7 @@ int cmd_write_param_checked(unsigned a, unsigned p, int32_t v)
             /* <ao> such that the actual position becomes v (4.3.2) */
             int32_t ao = pos_sub(v, axes[a].meas);
             params_force(a, P_AO, ao, PS_WRITTEN);
-            axis_set_pos(a);
+            measure_set_pos(a);
         }
         axes[a].zp_value = v;
         cmd_unmask();

@@ -168,7 +168,7 @@ static void track_relative(unsigned n, int on)
 static inline void correct_by(unsigned n, int32_t d)
 {
     axis_t *x = axis_at[n];
-    x->meas = pos_add(x->meas, d);
+    measure_meas_set(x, pos_add(x->meas, d));
     axis_moved_by(x, d);                         /* RAV and the position with it (axis.h) */
 }
 

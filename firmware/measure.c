@@ -58,6 +58,20 @@ void measure_encoder_error(unsigned n)
     axis_encoder_error_at(x, &meas_cfg[n], n);
 }
 
+/* The actual position from meas and <ao>, wrapped on a circular axis
+ * (INIT, RCP's WAO, a justification's zero): main loop. */
+void measure_set_pos(unsigned n)
+{
+    axis_t *x = &axes[n];
+    int32_t pos = pos_add(x->meas, PAR(n, AO));
+    if (!x->linear) {
+        pos %= x->cr;          /* main loop only: a division is fine here */
+        if (pos < 0)
+            pos += x->cr;
+    }
+    measure_pos_set(x, pos);
+}
+
 void measure_init(unsigned n)
 {
     axis_t *x = axis_at[n];
@@ -108,5 +122,5 @@ void measure_init(unsigned n)
     }
     measure_init_card(n);                               /* STP: ratio, tolerance, BR; meas in steps */
     axis_prepare(n);
-    axis_set_pos(n);
+    measure_set_pos(n);
 }

@@ -8,6 +8,7 @@
 #include "params.h"
 
 void measure_init(unsigned n);     /* INIT: derive <ea>/<eb>/<ec>, zero relative position */
+void measure_set_pos(unsigned n);  /* main loop: pos from meas and <ao>, wrapped */
 /* May an external position (<et> 3/4) be read at <ea> with <eb> significant
  * bits (eb 0: not known yet)?  The rule of docs/interpretations.md. */
 int measure_ea_ok(uint32_t ea, int32_t eb);
@@ -220,6 +221,15 @@ FW_INLINE int32_t measure_counter(axis_t *x, unsigned n)
     return d;
 }
 
+/* The measured position and the displayed one are the measurement's: the
+ * tick moves them (measure_apply_k), the main loop sets the position from
+ * meas and <ao> (measure.c measure_set_pos); outside the tick, masked, a
+ * compensation table moves meas (ext_comp.c) and the position with it
+ * (axis.h axis_moved_by), and the STP's INIT converts meas to steps
+ * (stepper.c). */
+FW_INLINE void measure_pos_set(axis_t *x, int32_t pos) { x->pos = pos; }
+FW_INLINE void measure_meas_set(axis_t *x, int32_t meas) { x->meas = meas; }
+
 /* The motion d into the measured position and the displayed one, which a
  * circular axis keeps in 0 .. <cr>-1 (4.3.1.2).  RAV: card_supervise.
  * linear, a constant: the caller knows the axis is linear (MK_SSI_ABS). */
@@ -238,15 +248,36 @@ FW_INLINE void measure_apply_k(axis_t *x, int32_t d, int linear)
 
 FW_INLINE void measure_apply(axis_t *x, int32_t d) { measure_apply_k(x, d, 0); }
 
+/* An external reading raw as the last one read (RED) and processed (RCT):
+ * the tick's, here and in the STP's stepper.h stp_measure_ext. */
+FW_INLINE void measure_raw_take(axis_t *x, uint32_t raw)
+{
+    x->raw = raw;
+    x->counter = raw;
+}
+
 /* A valid reading raw into the measured position: the motion since the
  * last reading (measure_delta), then raw and counter.  abs_linear, a
  * constant: the axis is absolute and linear (the reading is the position). */
 FW_INLINE void measure_ext_take(axis_t *x, const meas_cfg_t *c, uint32_t raw, int abs_linear)
 {
     int32_t d = measure_delta_k(x, c, raw, abs_linear);
-    x->raw = raw;
-    x->counter = raw;
+    measure_raw_take(x, raw);
     measure_apply_k(x, d, abs_linear);
+}
+
+/* What the supervision (card_supervise, once per tick) derives from the
+ * tick's measurement, so that the tick keeps only meas and the counter:
+ * RAV, the motion since the last supervision ... */
+FW_INLINE void measure_vel_set(axis_t *x, int32_t vel)
+{
+    x->vel = vel;
+}
+
+/* ... and RED on the counter path, the counter's content. */
+FW_INLINE void measure_red_counter(axis_t *x)
+{
+    x->raw = x->counter;
 }
 
 #endif

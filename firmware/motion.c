@@ -27,6 +27,8 @@
 #include "motion_priv.h"
 #include "measure.h"
 #include "ext.h"
+#include "tick.h"
+#include "tick_servo.h"
 
 /* vq(): the card variant's (servo_motion.c, stp_motion.c). */
 
@@ -121,8 +123,7 @@ static void brake_now(axis_t *x, int32_t d)
     int64_t pos;
     int32_t v;
     brake_from_card(x, &pos, &v);                /* the setpoint and its speed per tick */
-    brake_set_pos(x, pos);
-    x->br_v = v;
+    brake_start(x, pos, v);                      /* tick.h: the ramp is the tick's */
     x->nx_ready = 0;
     x->braking = 1;
     motion_path_set(x);
@@ -201,7 +202,7 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
     axis_t *x = axis_at[n];
     if (from == M_DISABLE || from == M_TEST) {
         motion_hold(n);                          /* no jump when the drive comes on */
-        servo_reset(&x->servo);
+        tick_servo_reset(x);
     }
     x->done = 0;
     x->phase = 0;

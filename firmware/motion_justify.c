@@ -9,6 +9,7 @@
 #include "mul16.h"
 #include "card.h"
 #include "params.h"
+#include "measure.h"
 #include "motion.h"
 #include "motion_priv.h"
 
@@ -23,7 +24,7 @@ static void justified(unsigned n, int set_zero)
     if (set_zero) {
         /* the index pulse is the axis' reference: position 0 there (4.9) */
         params_force(n, P_AO, -x->edge, PS_WRITTEN);
-        axis_set_pos(n);
+        measure_set_pos(n);
     }
     x->ustat |= UB(JUS_END);
     vme_irq((uint8_t)PAR(n, IRQ4));

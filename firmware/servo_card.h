@@ -40,7 +40,7 @@ FW_INLINE void servo_path_set(axis_t *x) { x->servo_path = servo_path_of(x); }
  * the DAC), and the tick's body for the axis. */
 FW_INLINE void axis_mode_card(axis_t *x, unsigned n, uint8_t mode)
 {
-    x->ctrl = (uint16_t)((x->ctrl & ~AX_CTRL_EN) | (mode != M_DISABLE ? AX_CTRL_EN : 0));
+    axis_ctrl_set(x, (uint16_t)((x->ctrl & ~AX_CTRL_EN) | (mode != M_DISABLE ? AX_CTRL_EN : 0)));
     hal_wr16(AX_REG(n, AX_CTRL), x->ctrl);
     servo_path_set(x);
 }
@@ -58,11 +58,9 @@ FW_INLINE int card_led_fault(const axis_t *x) { (void)x; return 0; }
 FW_INLINE void tick_result(axis_t *x, unsigned ph)
 {
     if (x->mode == M_DISABLE) {
-        x->setpoint = x->meas;
-        x->ferr = 0;
+        axis_result_idle(x);
     } else if (x->mode != M_TEST) {
-        x->setpoint = x->braking ? brake_setpoint(x) : x->sp_now[ph];
-        x->ferr = pos_sub(x->setpoint, x->meas);
+        axis_result_set(x, x->braking ? brake_setpoint(x) : x->sp_now[ph]);
     }
 }
 /* Level 5: the servo cards have no step pulses. */

@@ -55,6 +55,6 @@ uint8_t measure_kind_enc(int32_t et, int linear)
 void axis_prepare_enc(axis_t *x, unsigned n, int32_t et)
 {
     uint16_t sync = et <= 2 ? AX_CTRL_SSI_SYNC : 0;
-    x->ctrl = (uint16_t)((x->ctrl & ~AX_CTRL_SSI_SYNC) | sync);
+    axis_ctrl_set(x, (uint16_t)((x->ctrl & ~AX_CTRL_SSI_SYNC) | sync));
     hal_wr16(AX_REG(n, AX_CTRL), x->ctrl);
 }

@@ -29,6 +29,7 @@
 #include "card.h"
 #include "params.h"
 #include "motion.h"
+#include "measure.h"
 #include "stp_card.h"
 
 stp_t stp_ax[MAC4_NAXES];
@@ -57,7 +58,7 @@ void stp_init(unsigned n)
         s->tol = (int32_t)((s->ratio >> 16) + ((s->ratio & 0xFFFFu) != 0));
         s->inc = x->meas;                        /* 0, or the absolute encoder's value */
         s->conv = stp_scale_call(s->inc, s->ratio);
-        x->meas = s->conv;
+        measure_meas_set(x, s->conv);
     }
     /* BR (2.4.2): closed to count the steps (<et> 0), open for the encoder (<et> 1) */
     if (et <= 1) {

@@ -139,7 +139,12 @@ FW_INLINE uint8_t stp_path_of(uint8_t mode, uint8_t braking)
 {
     return mode == M_DISABLE || mode == M_TEST ? STP_PATH_IDLE : braking ? STP_PATH_BRAKE : STP_PATH_RUN;
 }
+/* stp_path's writes: for the axis' mode and, at a mode change, for the
+ * mode coming into force (stp_variant.h axis_mode_card: the mode already in
+ * a register; stp_path_set on top of it costs the brake's callers an
+ * instruction, as the compiler orders the volatile braking's read) */
 FW_INLINE void stp_path_set(axis_t *x) { x->stp_path = stp_path_of(x->mode, x->braking); }
+FW_INLINE void stp_path_set_for(axis_t *x, uint8_t mode) { x->stp_path = stp_path_of(mode, x->braking); }
 
 /* AX_CTRL's DIR for a motion in direction dir: 0 V (bit set) = positive,
  * open collector = negative (table 2.12); USR turns it round (4.2). */
@@ -190,8 +195,7 @@ FW_INLINE void stp_measure_ext(axis_t *x, meas_cfg_t *c, unsigned n)
         return;
     /* absolute: the reading against the counter in its increments */
     int32_t d = c->abs ? (int32_t)(raw - (uint32_t)stp_counts_at(x, &stp_ax[n], n)) : measure_delta(x, c, raw);
-    x->raw = raw;
-    x->counter = raw;
+    measure_raw_take(x, raw);
     measure_apply(x, measure_steps(x, n, d));
 }
 int32_t stp_edge(unsigned n, int32_t d);      /* index latched d counts from here: steps */

@@ -53,7 +53,7 @@ static void creep_stop(axis_t *x, stp_t *s, uint32_t reg)   /* reg: AX_REG(n, 0)
         s->rate = 0;
         s->carry = 0;
     }
-    x->ctrl = (uint16_t)(x->ctrl & ~(AX_CTRL_PULSE_IE | AX_CTRL_DONE_IE));
+    axis_ctrl_set(x, (uint16_t)(x->ctrl & ~(AX_CTRL_PULSE_IE | AX_CTRL_DONE_IE)));
     hal_wr16(reg + AX_CTRL, (uint16_t)(x->ctrl | AX_CTRL_PULSE_ACK | AX_CTRL_DONE_ACK));
     s->creep = CREEP_IDLE;
     s->hw_done = 0;
@@ -103,10 +103,10 @@ FW_INLINE void creep_begin(axis_t *x, stp_t *s, unsigned n, uint32_t reg)
     s->obits = (uint16_t)((s->obits & ~AX_CTRL_DIR) | stp_dir_bit(x, dir));
     s->carry = 0;
     hal_wr16(reg + AX_PULSES, s->creep_n);       /* exactly this many, then the output stops */
-    x->ctrl = (uint16_t)(x->ctrl | AX_CTRL_DONE_IE);
+    axis_ctrl_set(x, (uint16_t)(x->ctrl | AX_CTRL_DONE_IE));
     s->creep_irq = s->lv_rate <= (s->clocks == STP_TICK_CLOCKS ? PULSE_IRQ_MAX_RATE : PULSE_IRQ_MAX_RATE_TURBO);
     if (s->creep_irq)
-        x->ctrl = (uint16_t)(x->ctrl | AX_CTRL_PULSE_IE);
+        axis_ctrl_set(x, (uint16_t)(x->ctrl | AX_CTRL_PULSE_IE));
     s->rate = s->lv_rate;                        /* DIR and rate go out in axis_output */
     s->creep = CREEP_RUN;
 }
@@ -120,8 +120,7 @@ FW_INLINE int creep_tick(axis_t *x, stp_t *s, unsigned n, unsigned phase,
     uint32_t reg = AX_REG(n, 0);
     if (s->creep == CREEP_TRIM) {
         if (x->sp_i == old_i && x->sp_f == old_f && !(x->in & AX_IN_PDONE)) {
-            x->setpoint = pos_add(old_i, old_f >= 0x8000u);
-            x->ferr = pos_sub(x->setpoint, x->meas);
+            axis_result_set(x, pos_add(old_i, old_f >= 0x8000u));
             return 1;                            /* the trim's pulses still to come */
         }
         creep_stop(x, s, reg);                   /* done, or the profile moves on */
@@ -148,8 +147,7 @@ FW_INLINE int creep_tick(axis_t *x, stp_t *s, unsigned n, unsigned phase,
         left = hal_rd16(reg + AX_PULSES);
     }
     int32_t done = (int32_t)(s->creep_n - left);
-    x->setpoint = pos_add(s->creep_base, s->creep_dir < 0 ? -done : done);
-    x->ferr = pos_sub(x->setpoint, x->meas);
+    axis_result_set(x, pos_add(s->creep_base, s->creep_dir < 0 ? -done : done));
     return 1;
 }
 

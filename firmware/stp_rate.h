@@ -95,8 +95,7 @@ FW_INLINE void stp_rate(axis_t *x, stp_t *s, unsigned n, unsigned phase, int32_t
     else
         d = (int32_t)((uint32_t)di << 16) + (int32_t)x->sp_f - (int32_t)old_f;
     int32_t sp = pos_add(old_i, old_f >= 0x8000u);
-    x->setpoint = sp;
-    x->ferr = pos_sub(sp, x->meas);
+    axis_result_set(x, sp);
     if (d == 0) {
         /* stand-still: the step counter must read the setpoint (the trim) */
         if (x->ferr && !s->rate && !x->prof.vel && !(stp_conv & (1u << n)))
@@ -143,7 +142,7 @@ FW_INLINE void stp_isr_axis(unsigned k, unsigned p)
     uint16_t ack = AX_CTRL_PULSE_ACK;
     if (p & (0x10u << k)) {                      /* the last one is out */
         ack = AX_CTRL_PULSE_ACK | AX_CTRL_DONE_ACK;
-        x->ctrl = (uint16_t)(x->ctrl & ~(AX_CTRL_PULSE_IE | AX_CTRL_DONE_IE));
+        axis_ctrl_set(x, (uint16_t)(x->ctrl & ~(AX_CTRL_PULSE_IE | AX_CTRL_DONE_IE)));
         s->counted = s->creep_n;
         s->hw_done = 1;
     } else {                                     /* every pulse: count it (5.6) */

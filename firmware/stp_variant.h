@@ -20,7 +20,7 @@
 FW_INLINE void axis_mode_card(axis_t *x, unsigned n, uint8_t mode)
 {
     (void)n;
-    x->stp_path = stp_path_of(mode, x->braking);
+    stp_path_set_for(x, mode);
 }
 /* 4.8.1: <mf> plus the tolerance of <ms>/(4 <es>). */
 FW_INLINE int32_t axis_mf_tol(unsigned n) { return stp_tol(n); }

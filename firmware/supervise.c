@@ -12,6 +12,7 @@
 #include "hal.h"
 #include "mul16.h"
 #include "card.h"
+#include "measure.h"
 #include "axis.h"
 #include "cmd.h"
 #include "params.h"
@@ -137,9 +138,9 @@ FW_INLINE void supervise_axis(unsigned n, unsigned ph)
     PIN_PTR(x);
     tick_result(x, ph);                           /* INC/SSI (the STP's tick keeps them itself) */
     if (x->mk_tick != MK_NONE)                    /* RAV: the tick keeps only meas */
-        x->vel = pos_sub(x->meas, x->meas_sup);
+        measure_vel_set(x, pos_sub(x->meas, x->meas_sup));
     if (x->mk_tick == MK_COUNTER)                 /* RED: the counter path keeps only the counter */
-        x->raw = x->counter;
+        measure_red_counter(x);
     axis_supervised_at(x, x->meas);               /* axis.h: the parts axis.c writes */
     axis_follow_init(x);
     axis_inputs(n);
@@ -201,7 +202,7 @@ HAL_ISR void fw_isr_axis(void)
         return;
     for (unsigned n = 0; n < MAC4_NAXES; n++)
         if (pending & (1u << n)) {
-            axes[n].ctrl = (uint16_t)(axes[n].ctrl & ~AX_CTRL_IDX_IE);
+            axis_ctrl_set(&axes[n], (uint16_t)(axes[n].ctrl & ~AX_CTRL_IDX_IE));
             hal_wr16(AX_REG(n, AX_CTRL), axes[n].ctrl);
         }
 }

@@ -14,6 +14,7 @@
 #include "measure.h"
 #include "tick.h"
 #include "servo_card.h"
+#include "tick_servo.h"
 
 /* The tick does only what must happen at the sampling instant (7.4):
  * measure, interpolate the setpoint, filter, drive the outputs.  Everything
@@ -117,8 +118,7 @@ FW_INLINE void tick_axis(axis_t *x, unsigned n, unsigned ph4, unsigned path, int
         if (x->ustat & UB(REV_O))                 /* USR (4.2) */
             u = (int16_t)(u == SERVO_OUT_MIN ? SERVO_OUT_MAX : -u);
     }
-    x->out = u;
-    hal_wr16(AX_REG(n, AX_DAC), (uint16_t)u);
+    axis_dac_write(x, n, u);
 }
 
 /* One axis: its measurement, then the body its path byte names, read after

@@ -68,8 +68,7 @@ FW_INLINE void stp_axis(unsigned n, unsigned phase, unsigned path)
     PIN_PTR(s);
     if (path == STP_PATH_IDLE) {
         if (x->mode == M_DISABLE) {
-            x->setpoint = x->meas;
-            x->ferr = 0;
+            axis_result_idle(x);
         }
         axis_output_at(n, 0);   /* the step rate and DIR, BOOST, TURBO (stp_output); test mode: <da> in Hz */
         return;
@@ -110,11 +109,7 @@ FW_INLINE void stp_axis(unsigned n, unsigned phase, unsigned path)
     /* the outputs of a running axis (tick.h axis_output_at, stp_output):
      * /EN, DIR, BOOST, TURBO and the rate the rate stage prepared */
     uint16_t ctrl = (uint16_t)((x->ctrl & ~(AX_CTRL_EN | STP_OBITS)) | AX_CTRL_EN | s->obits);
-    uint16_t rate = s->rate;
-    x->ctrl = ctrl;
-    x->out = (int16_t)rate;
-    hal_wr16(AX_REG(n, AX_CTRL), ctrl);
-    hal_wr16(AX_REG(n, AX_DAC), rate);
+    axis_output_write(x, n, ctrl, s->rate);
 }
 
 /* One axis: its measurement, then the body its path byte names, read after
