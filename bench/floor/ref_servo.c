@@ -92,7 +92,6 @@ static int vme_irqs;
 void vme_irq(uint8_t vector) { vme_irqs += vector != 0; }   /* the DPRAM path only: never in these inputs */
 /* measure_init's, never called here (the inputs set meas_cfg themselves) */
 void axis_prepare(unsigned n) { (void)n; }
-void axis_set_pos(unsigned n) { (void)n; }
 
 /* ---- tick_servo.c's tick (INC/SSI) ------------------------------------------
  * The firmware dispatches each axis on its byte servo_path (servo_card.h
