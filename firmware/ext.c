@@ -51,13 +51,20 @@ void ext_axis_init(unsigned n)
 volatile uint8_t ext_due;
 uint16_t ext_late;
 
+/* A round's slices: the conversion table's two only while an entry is on
+ * (EXT_FB_ON), the four axes' always. */
+FW_INLINE uint8_t round_slices(void)
+{
+    return (ext_on & EXT_FB_ON) ? EXT_SLICES : EXT_SLICES - 2u;
+}
+
 void ext_supervise_do(void)
 {
     if (ext_due) {
         ext_late++;
         ext_again = 1;                            /* the round ends first, then the next one */
     } else {
-        ext_due = EXT_SLICES;
+        ext_due = round_slices();
     }
 }
 
@@ -68,7 +75,7 @@ void ext_slice(void)
     ext_due--;
     if (!ext_due && ext_again) {
         ext_again = 0;
-        ext_due = EXT_SLICES;
+        ext_due = round_slices();
     }
     uint16_t on = ext_on;
     if (k < 2) {                                  /* the conversion table, entries in order */
