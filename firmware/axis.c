@@ -27,6 +27,7 @@ __attribute__((optimize("O2"))) void axis_set_gains(unsigned n, const servo_gain
         card_servo_general |= (uint8_t)(1u << n);
     else
         card_servo_general &= (uint8_t)~(1u << n);
+    tick_select();                                /* the timer's vector follows */
 }
 
 /* the bodies: axis.h (the tick's encoder error instantiates them too) */

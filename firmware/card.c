@@ -55,6 +55,7 @@ void card_reset(void)
     card_err_report = 0;
     card_ticks = 0;
     card_servo_general = 0;
+    tick_select();                                /* the K-only tick in the timer's vector */
     card_profile_due = 0;
     card_profile_late = 0;
     supervise_reset();

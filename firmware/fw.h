@@ -22,6 +22,7 @@ void fw_init(void);
 void fw_main_step(void);
 /* Interrupt sources. */
 void fw_isr_tick(void);     /* periodic timer, level 6 */
+void fw_isr_tick_general(void);   /* INC/SSI: the same with the general filter (tick_select) */
 void fw_isr_axis(void);     /* axis board (index, step pulses), level 5 */
 void fw_isr_uart(void);     /* serial line, level 4 */
 void fw_isr_estop(void);    /* /STOP, level 7 */

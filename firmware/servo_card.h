@@ -36,6 +36,14 @@ FW_INLINE uint8_t servo_path_of(const axis_t *x)
 }
 FW_INLINE void servo_path_set(axis_t *x) { x->servo_path = servo_path_of(x); }
 
+/* The tick body the timer's vector enters (tick_servo.c): the general one
+ * while an axis needs the general filter, else the K-only one.  Where
+ * card_servo_general changes (axis_set_gains, card_reset), masked. */
+FW_INLINE void tick_select(void)
+{
+    hal_set_tick_vector(card_servo_general != 0);
+}
+
 /* axis_set_mode: /EN follows the mode at once (the servo tick writes only
  * the DAC), and the tick's body for the axis. */
 FW_INLINE void axis_mode_card(axis_t *x, unsigned n, uint8_t mode)

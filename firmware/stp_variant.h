@@ -15,6 +15,9 @@
 /* the controller period (7.4), the board's (hal/mac4_map.h) */
 #define CARD_TICK_US SERVO_PERIOD_US_STP
 
+/* One tick body: the timer's vector stays fw_isr_tick. */
+FW_INLINE void tick_select(void) {}
+
 /* axis_set_mode: the tick's body for the axis (the tick writes AX_CTRL,
  * /EN too, every tick). */
 FW_INLINE void axis_mode_card(axis_t *x, unsigned n, uint8_t mode)

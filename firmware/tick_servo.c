@@ -187,14 +187,18 @@ FW_INLINE void tick(int general)
     card_ticks++;
 }
 
-static void __attribute__((noinline)) tick_k_only(void) { tick(0); }
-static void __attribute__((noinline)) tick_general(void) { tick(1); }
-
-/* two tail calls: each body saves only the registers it uses */
-void fw_isr_tick(void)
+/* The timer's vector enters a tick body directly (HAL_ISR: it saves only
+ * the registers it uses and ends in RTE, no entry stub): the K-only tick
+ * from reset on, the general one while an axis needs the general filter,
+ * which tick_select (servo_card.h) puts in the vector wherever
+ * card_servo_general changes.  Natively there is no vector: the emulator
+ * calls fw_isr_tick, which chooses (HAL_VECTORED 0). */
+HAL_ISR void fw_isr_tick(void)
 {
-    if (card_servo_general)
-        tick_general();
+    if (!HAL_VECTORED && card_servo_general)
+        tick(1);
     else
-        tick_k_only();
+        tick(0);
 }
+
+HAL_ISR void fw_isr_tick_general(void) { tick(1); }

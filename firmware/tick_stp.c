@@ -126,7 +126,8 @@ FW_INLINE void stp_tick_axis(unsigned n, unsigned phase)
         stp_axis(n, phase, STP_PATH_IDLE);
 }
 
-void fw_isr_tick(void)
+/* The timer's vector enters it directly (HAL_ISR: no entry stub). */
+HAL_ISR void fw_isr_tick(void)
 {
     hal_wr16(TMR_STATUS, TMR_ST_EXPIRED);
     unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);

@@ -14,7 +14,10 @@ object file -> .su file).
 
 Roots: the main loop (crt0 calls fw_init, then fw_main_step for ever, on the
 SRAM stack) and one interrupt entry per level (hal/target/vectors.S: a 6-byte
-exception frame, MOVEM of d0-d1/a0-a1 = 16 bytes, JSR).  Levels 4 (serial),
+exception frame, the handler entered directly - HAL_ISR, its saves in its
+own frame - or through a stub's MOVEM of d0-d1/a0-a1 and JSR; 16 bytes are
+charged either way; the timer's vector enters either tick body on INC/SSI,
+the deeper counts).  Levels 4 (serial),
 5 (axis board), 6 (timer) and 7 (emergency stop) can each interrupt the one
 below, so the worst case is the main loop's deepest path plus each level's
 deepest.  fw_boot_stage1 runs before, on the boot stack in the DPRAM, and
@@ -27,8 +30,10 @@ import subprocess
 import sys
 
 CROSS = os.environ.get("CROSS", "m68k-linux-gnu-")
-ISR_ENTRY = {"_isr_uart": ("fw_isr_uart", 4), "_isr_axis": ("fw_isr_axis", 5),
-             "_isr_tick": ("fw_isr_tick", 6), "_isr_estop": ("fw_isr_estop", 7)}
+# level: the handlers its vector may enter (INC/SSI: tick_select puts either
+# tick body in the timer's vector), the deepest counts
+ISR_ENTRY = {"_isr_uart": (("fw_isr_uart",), 4), "_isr_axis": (("fw_isr_axis",), 5),
+             "_isr_tick": (("fw_isr_tick", "fw_isr_tick_general"), 6), "_isr_estop": (("fw_isr_estop",), 7)}
 EXC_FRAME, MOVEM, RET = 6, 16, 4
 
 
@@ -159,8 +164,8 @@ def analyse(elf, fwdir, mapfile):
 
     main = max(root("fw_init"), root("fw_main_step"))
     levels = {}
-    for stub, (handler, level) in ISR_ENTRY.items():
-        d, path = root(handler)
+    for stub, (handlers, level) in ISR_ENTRY.items():
+        d, path = max(root(h) for h in handlers)
         levels[level] = {"bytes": EXC_FRAME + MOVEM + d, "path": [stub] + path}
     boot = root("fw_boot_stage1")
     fault = root("fw_fault")

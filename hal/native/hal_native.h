@@ -11,4 +11,9 @@ void hal_wr8(uint32_t a, uint8_t v);
 void hal_wr16(uint32_t a, uint16_t v);
 void hal_wr32(uint32_t a, uint32_t v);
 
+/* No vector table: the emulator calls fw_isr_tick, which chooses the tick's
+ * body itself (tick_servo.c). */
+#define HAL_VECTORED 0
+static inline void hal_set_tick_vector(unsigned general) { (void)general; }
+
 #endif

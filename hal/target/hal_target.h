@@ -16,6 +16,19 @@ static inline void hal_wr8(uint32_t a, uint8_t v) { *(volatile uint8_t *)a = v; 
 static inline void hal_wr16(uint32_t a, uint16_t v) { *(volatile uint16_t *)a = v; }
 static inline void hal_wr32(uint32_t a, uint32_t v) { *(volatile uint32_t *)a = v; }
 
+/* The live vector table is the DPRAM's (hal_copy_vectors): the timer's
+ * vector can be pointed at the other tick body of vectors.S's
+ * _tick_vectors (0: fw_isr_tick, 1: fw_isr_tick_general; servo_card.h
+ * tick_select). */
+#define HAL_VECTORED 1
+extern const uint32_t _tick_vectors[2];
+static inline void hal_set_tick_vector(unsigned general)
+{
+    uint32_t a = DPRAM_VECTORS + 4u * (24u + IRQ_LEVEL_TIMER);
+    __asm__("" : "+a"(a));      /* an address below 4 KiB: GCC would call it a null-pointer access */
+    hal_wr32(a, _tick_vectors[general]);
+}
+
 static inline unsigned hal_irq_save(void)
 {
     uint16_t sr;

@@ -21,7 +21,7 @@ _vectors:
     .elseif vnum == 24 + IRQ_LEVEL_AXIS
     .long   fw_isr_axis                 /* HAL_ISR */
     .elseif vnum == 24 + IRQ_LEVEL_TIMER
-    .long   _isr_tick
+    .long   fw_isr_tick                 /* HAL_ISR; INC/SSI: tick_select may put fw_isr_tick_general here */
     .elseif vnum == 24 + IRQ_LEVEL_ESTOP
     .long   _isr_estop
     .else
@@ -29,6 +29,18 @@ _vectors:
     .endif
     .set    vnum, vnum + 1
     .endr
+
+/* The tick bodies the timer's vector may enter (hal_set_tick_vector): the
+ * servo cards' general one is weak, 0 on the STP, which has one body. */
+    .section .rodata
+    .globl  _tick_vectors
+    .weak   fw_isr_tick_general
+    .align  2
+    .type   _tick_vectors, @object
+    .size   _tick_vectors, 8
+_tick_vectors:
+    .long   fw_isr_tick
+    .long   fw_isr_tick_general
 
     .text
 /* Interrupt entries: save the registers the C ABI lets a callee clobber. */
@@ -41,7 +53,6 @@ _vectors:
     rte
     .endm
 
-    isr     _isr_tick,  fw_isr_tick
     isr     _isr_estop, fw_isr_estop
 
     .globl  _fault_stubs
