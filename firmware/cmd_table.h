@@ -16,6 +16,7 @@
 #include "hal.h"
 #include "card.h"
 #include "params.h"
+#include "cmd_mask.h"
 
 /* ---- the command table -------------------------------------------------- */
 /* The kinds of command; reads last: kind >= CK_READ_ is a read. */
@@ -59,10 +60,8 @@ static inline int system_change_allowed(unsigned a)
 }
 
 /* Commands run in the main loop only, at level 0: execute_and_respond masks
- * them and restores level 0 after.  A part of a command that the tick does
- * not read may run with interrupts enabled between these two. */
-static inline void cmd_unmask(void) { hal_irq_enable_all(); }
-static inline void cmd_remask(void) { (void)hal_irq_save(); }
+ * them and restores level 0 after; cmd_mask.h's cmd_unmask/cmd_remask for a
+ * part of a command that the tick does not read. */
 
 /* ---- the groups' handlers ---------------------------------------------- */
 /* cmd_param.c */

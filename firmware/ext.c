@@ -11,6 +11,7 @@
 #include "cmd.h"
 #include "params.h"
 #include "ext.h"
+#include "cmd_mask.h"
 #include "queue.h"
 #include "serial.h"
 
@@ -129,9 +130,9 @@ int ext_general(int ci, unsigned a, uint32_t p)
     case CI_FBS: {
         /* the conversion table and its bit of ext_on are the main loop's
          * (ext_slice): set up with interrupts enabled, as RCSM below */
-        hal_irq_enable_all();
+        cmd_unmask();
         int r = ext_fb_setup(ext_fb_sel, p);
-        (void)hal_irq_save();
+        cmd_remask();
         return r;
     }
     case CI_FBW1:
@@ -157,11 +158,11 @@ uint32_t ext_read(unsigned ci, unsigned a)
         /* Read in a command, masked (cmd.c): a CRC over up to 256 entries,
          * byte by byte, is some 62 000 cycles, more than a servo period; the
          * table is the main loop's and no interrupt reads it, so it is
-         * summed with interrupts enabled, as cmd_table.h's cmd_unmask()
+         * summed with interrupts enabled, as cmd_mask.h's cmd_unmask()
          * lets a command's part the tick does not read run. */
-        hal_irq_enable_all();
+        cmd_unmask();
         uint32_t v = ext_comp_sum(a);
-        (void)hal_irq_save();
+        cmd_remask();
         return v;
     }
     case CI_RCC: return (uint32_t)t->cor;

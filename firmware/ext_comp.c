@@ -25,6 +25,7 @@
 #include "measure.h"
 #include "crc16.h"
 #include "ext.h"
+#include "cmd_mask.h"
 
 ext_comp_t ext_comp[MAC4_NAXES];
 /* &ext_comp[n] by a table, as axis_at[] (card.h) */
@@ -231,9 +232,9 @@ int ext_comp_define(unsigned a)
     /* The table is off: neither the tick nor the supervision reads it, so
      * the divisions and the clearing run with interrupts enabled (commands
      * run masked, cmd.c: execute_and_respond) */
-    hal_irq_enable_all();
+    cmd_unmask();
     int r_ = define(a, t);
-    (void)hal_irq_save();
+    cmd_remask();
     return r_;
 }
 
@@ -317,9 +318,9 @@ int ext_comp_switch(unsigned a, uint32_t on)
         /* a command, masked (cmd.c): the budget is main-loop state no
          * interrupt reads, worked out with interrupts enabled (as
          * ext_compare.c's ext_pc_arm) */
-        hal_irq_enable_all();
+        cmd_unmask();
         int fits = ext_fits(t->rows ? EXT_W_TABLE2 : EXT_W_TABLE1);
-        (void)hal_irq_save();
+        cmd_remask();
         if (!fits)
             return ERR_LOGICAL;                   /* beyond the extensions' budget (ext.h) */
         unsigned prev = hal_irq_save();

@@ -16,6 +16,7 @@
 #include "card.h"
 #include "params.h"
 #include "ext.h"
+#include "cmd_mask.h"
 
 ext_pc_t ext_pc[MAC4_NAXES];
 
@@ -104,16 +105,16 @@ int ext_pc_arm(unsigned a, uint32_t on)
         return ERR_LIMIT;
     /* A command (masked by the command path): the budget and the window from
      * the parameters are main-loop state no interrupt reads, worked out with
-     * interrupts enabled as cmd_table.h's cmd_unmask() does; the commit, from
+     * interrupts enabled as cmd_mask.h's cmd_unmask() does; the commit, from
      * the position of the moment, masked again. */
-    hal_irq_enable_all();
+    cmd_unmask();
     int fits = !on || c->armed || ext_fits(EXT_W_COMPARE);
     int64_t p0 = PAR(a, PCP), e = PAR(a, PCE), n = PAR(a, PCN);
     int32_t k = 1;
     if (n && e > p0)
         k = (int32_t)((uint32_t)(e - p0) / (uint32_t)n) + 1;
     int64_t last = p0 + (int64_t)((uint32_t)(k - 1) * (uint32_t)n);
-    (void)hal_irq_save();
+    cmd_remask();
     axis_at[a]->ustat &= ~UB(PC_HIT);
     if (!on) {
         c->armed = 0;
