@@ -3,10 +3,10 @@
  * firmware's C (floorrun.c, bench/floor/README.md).  Compiled once per card
  * (MAC4_CARD) with the firmware's servo.c, measure.c and params.c for the
  * host: the filter is firmware/servo.h itself, the measurement measure.h
- * and measure.c; the tick's glue around them - fw_isr_tick, take_row,
- * tick_axis and the axis-state changes an encoder error makes - is
- * firmware/tick_servo.c's and axis.c's, restated below (tick_servo.c
- * keeps it static).
+ * and measure.c, the brake step tick.h's and the axis-state changes an
+ * encoder error makes axis.h's; the tick's glue around them - fw_isr_tick,
+ * take_row, tick_axis - is firmware/tick_servo.c's, restated below
+ * (tick_servo.c keeps it static).
  */
 #include <stdio.h>
 #include <string.h>
@@ -19,6 +19,7 @@
 #include "cmd.h"
 #include "cmd_table.h"
 #include "servo_card.h"         /* tick_result, as the supervision uses it */
+#include "axis.h"                /* axis_set_mode_at, axis_disable_at; tick.h */
 #include <stddef.h>
 #include "floor.h"
 #include "floorrun.h"
@@ -45,42 +46,10 @@ volatile uint8_t vme_irq_waiting;          /* card.h */
 uint32_t virq_lost;                         /* card.h */
 static uint32_t n_commands, n_rsp_lost, n_queue_errors, serial_stats[8];
 
-/* card.c, the axis state an encoder error changes (measure_encoder_error) */
-void axis_set_mode(unsigned n, uint8_t mode)
-{
-    axis_t *x = &axes[n];
-    x->mode = mode;
-    x->ustat = (x->ustat & ~US_MODE_MASK) | mode;
-    if (mode == M_DISABLE) {
-        x->ustat &= ~UB(DR_EN);
-    } else {
-        x->ustat |= UB(DR_EN);
-        meas_cfg[n].failed = 0;
-    }
-    x->ctrl = (uint16_t)((x->ctrl & ~AX_CTRL_EN) | (mode != M_DISABLE ? AX_CTRL_EN : 0));
-    hal_wr16(AX_REG(n, AX_CTRL), x->ctrl);
-}
-
-static void axis_output(unsigned n, int32_t out)
-{
-    axis_t *x = &axes[n];
-    uint16_t ctrl = (uint16_t)(x->ctrl & ~AX_CTRL_EN);
-    if (x->mode != M_DISABLE)
-        ctrl |= AX_CTRL_EN;
-    x->ctrl = ctrl;
-    x->out = (int16_t)out;
-    hal_wr16(AX_REG(n, AX_CTRL), ctrl);
-    hal_wr16(AX_REG(n, AX_DAC), (uint16_t)out);
-}
-
-void axis_disable(unsigned n)
-{
-    axis_set_mode(n, M_DISABLE);
-    axis_output(n, 0);
-    axes[n].stop_then = STOP_NONE;
-    axes[n].stop_settle = 0;
-    axes[n].next_mode = NO_MODE;
-}
+/* axis.c's mode changes, the state an encoder error changes
+ * (measure_encoder_error): the firmware's own bodies, axis.h */
+void axis_set_mode(unsigned n, uint8_t mode) { axis_set_mode_at(&axes[n], n, mode); }
+void axis_disable(unsigned n) { axis_disable_at(&axes[n], n); }
 
 void axis_error(unsigned n, uint32_t ubit, uint16_t code)
 {
@@ -99,22 +68,7 @@ void axis_prepare(unsigned n) { (void)n; }
  * RUN_FULL by gains.full) to one body instantiated per path; the path is a
  * function of the mode, braking and the gains, so the same tick is stated
  * here with those tests made directly. */
-static inline int32_t brake_slower(const axis_t *x)
-{
-    int32_t v = x->br_v, dv = x->br_dec;
-    if (v > 0)
-        v = v > dv ? v - dv : 0;
-    else if (v < 0)
-        v = v < -dv ? v + dv : 0;
-    return v;
-}
-
-static inline void brake_step(axis_t *x, int32_t v)
-{
-    x->br_v = v;
-    x->br_posh += v;
-}
-
+/* the tick's brake: tick.h's brake_slower and brake_step */
 static void tick_axis(unsigned n, unsigned ph4, int general)
 {
     axis_t *x = &axes[n];
