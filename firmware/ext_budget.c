@@ -25,7 +25,14 @@ uint32_t ext_load(void)
             c += (m == FB_EXP || m == FB_TRACK) ? EXT_W_FB_FILTER : EXT_W_FB_SIMPLE;
         }
     }
-    return fb ? c + EXT_W_FB_AXES : c;
+    if (fb)
+        c += EXT_W_FB_AXES;
+    return c ? c + EXT_W_ROUND : 0;
 }
 
-int ext_fits(uint32_t more) { return ext_load() + more <= EXT_BUDGET; }
+/* the first extension switched on brings the round with it */
+int ext_fits(uint32_t more)
+{
+    uint32_t load = ext_load();
+    return (load ? load : EXT_W_ROUND) + more <= EXT_BUDGET;
+}

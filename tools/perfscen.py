@@ -452,7 +452,43 @@ def extensions(card, ms=1000, host_load=True, **which):
     of them probed."""
     lines = setup_lines(card) + enable_lines(card) + ext_lines(card, **which) + move_lines(card, targets(card))
     lines += window_lines(ms, host_load, probes=(PROFILE_PROBE, EXT_PROBE), lead_ms=MOVING_LEAD_MS[card])
-    return "\n".join(lines) + "\n"
+    return "\n".join(lines + EXT_READ_LINES) + "\n"
+
+
+# After a window: what the firmware charges for what is on (REXB, bits
+# 0-15: ext_charged) and its count of late rounds (REXL: ext_late).
+EXT_READ_LINES = ["send 0 REXB", "send 0 REXL", "run 10"]
+
+
+def command_code(mnemonic):
+    """A command's code from build/commands.json (firmware/commands.def)."""
+    import json
+    table = json.load(open(os.path.join(BUILD, "commands.json")))
+    return [c["code"] for c in table["commands"] if c["mnemonic"] == mnemonic][0]
+
+
+def _ext_reads(r, mnemonic):
+    head = "resp 0 %d " % command_code(mnemonic)
+    vals = [int(l.split()[3], 16) for l in r["lines"] if l.startswith(head)]
+    return vals[-1] if vals else None
+
+
+def ext_charged(r):
+    """The cycles per tick firmware/ext.h charges for the extensions on
+    (REXB's bits 0-15, read after the window), or None."""
+    v = _ext_reads(r, "REXB")
+    return None if v is None else v & 0xFFFF
+
+
+def ext_budget(r):
+    """The card's budget (REXB's bits 16-31), or None."""
+    v = _ext_reads(r, "REXB")
+    return None if v is None else v >> 16
+
+
+def ext_late(r):
+    """REXL after the window: the rounds not done before the next tick."""
+    return _ext_reads(r, "REXL")
 
 
 def ext_cost(r):

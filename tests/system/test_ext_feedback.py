@@ -66,7 +66,7 @@ def test_setup_words_are_checked():
 @pytest.mark.parametrize("card,refused", [("inc", True), ("ssi", True), ("stp", False)])
 def test_the_budget_refuses_what_the_main_loop_cannot_hold(card, refused):
     """firmware/ext.h: 2-D tables on four axes fit every card's budget;
-    compares on four axes besides them do not on INC/SSI - the command that
+    compares on four axes besides them do not on INC/SSI (the second) - the command that
     would exceed it is refused with 163 and nothing of it is on - and do
     on the STP (an 8 ms tick)."""
     lines = []

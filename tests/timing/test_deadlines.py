@@ -213,6 +213,42 @@ def test_command_latency_with_the_extensions_on_four_axes(card, name):
     assert worst and per_tick, "the extensions' slices never ran"
     lat = ps.latency_ms(r)
     assert lat is not None and lat <= ps.BUDGET_LATENCY_MS, "%s %s latency %s ms" % (card, name, lat)
+    # the budget's charge (firmware/ext.h) is no less than the work measured
+    charged = ps.ext_charged(r)
+    assert charged is not None and per_tick <= charged, "%s %s: %d cycles per tick, charged %s" % (
+        card, name, per_tick, charged)
+
+
+def at_the_budget_lines(card):
+    """Switched on up to the budget: on INC/SSI a 2-D table per axis and the
+    compare of axis 0 (the compare of axis 1 is refused with 163), on the
+    STP everything on four axes.  A refusal is an error of its axis, which
+    C clears."""
+    if card == "stp":
+        return ps.ext_lines(card)
+    compares = ps.ext_lines(card, table=False, feedback=False)
+    return ps.ext_lines(card, compare=False, feedback=False) + \
+        [x for x in compares if x.startswith("send 0 ")] + [x for x in compares if x.startswith("send 1 ")] + \
+        ["send 1 C"]
+
+
+@pytest.mark.parametrize("card", ["inc", "ssi", "stp"])
+def test_within_the_budget_no_round_is_late_with_the_host_quiet(card):
+    """What the budget admits is done after every tick: four axes moving,
+    the host quiet for a second, REXL does not count (docs/extensions.md)."""
+    lines = ps.setup_lines(card) + ps.enable_lines(card) + at_the_budget_lines(card)
+    lines += ps.move_lines(card, ps.targets(card))
+    lines += ["run %d" % ps.MOVING_LEAD_MS[card], "send 0 REXL", "run 10"] + ps.positions_lines()
+    lines += ["perf quiet on", "run 1000", "perf quiet off"] + ps.positions_lines() + ps.EXT_READ_LINES
+    r = ps.run(card, "\n".join(lines) + "\n")
+    assert not r["faults"], r["faults"][:3]
+    assert all(x >= TICK_MOVED_DEFAULT[card] for x in ps.moved(r)), ps.moved(r)
+    refused = [l for l in r["lines"] if l.startswith("resp 1 163 ")]
+    assert len(refused) == (0 if card == "stp" else 1), refused      # axis 1's PCON 1
+    late = [int(l.split()[3], 16) for l in r["lines"] if l.startswith("resp 0 %d " % ps.command_code("REXL"))]
+    charged = ps.ext_charged(r)
+    assert charged and charged > ps.ext_budget(r) * 9 // 10, "%s: only %s charged" % (card, charged)
+    assert len(late) == 2 and late[1] == late[0], "%s: rounds late in the window: %s" % (card, late)
 
 
 def test_command_latency_idle_card_is_measured():
