@@ -35,6 +35,21 @@ FW_INLINE void axis_select_mode(axis_t *x, uint8_t mode)
     x->next_mode = mode;
 }
 
+/* What follows the protective stop in progress (STOP_*, STOP_NONE: none)
+ * and whether it waits for the mechanics at rest (4.8): motion.c begins,
+ * raises and ends the stop through these, and every disable ends it
+ * (axis_disable_at), as a disable ends the mode selected. */
+FW_INLINE void axis_stop_set(axis_t *x, uint8_t then, uint8_t settle)
+{
+    x->stop_then = then;
+    x->stop_settle = settle;
+}
+
+FW_INLINE void axis_stop_settle_set(axis_t *x, uint8_t settle)
+{
+    x->stop_settle = settle;
+}
+
 /* At a reset and while INIT sets up the measurement (cmd_general.c
  * do_init): the tick leaves the axis alone until the supervision after. */
 FW_INLINE void axis_measure_off(axis_t *x)
@@ -119,8 +134,7 @@ FW_INLINE void axis_disable_at(axis_t *x, unsigned n)
 {
     axis_set_mode_at(x, n, M_DISABLE);
     axis_output_x(x, n, 0);
-    x->stop_then = STOP_NONE;
-    x->stop_settle = 0;
+    axis_stop_set(x, STOP_NONE, 0);
     axis_select_mode(x, NO_MODE);
 }
 

@@ -178,11 +178,13 @@ typedef struct {
     /* a protective stop: motion.c's, which begins it (motion_emergency),
      * watches it after every tick and ends it (motion_priv.h stop_watch,
      * inline in the supervision; stop_done, which the supervision and the
-     * profile generator call); axis.c clears it at a disable.  INC/SSI:
+     * profile generator call); what follows it is the axis state's
+     * (axis.h axis_stop_set, which motion.c calls; a disable ends it,
+     * as it ends the mode selected).  INC/SSI:
      * a stop that ends only with the mechanics at rest under closed-loop
      * control, with its runaway guards */
     struct {
-        /* writers: motion.c axis.h */
+        /* writers: axis.h */
         uint8_t stop_then;  /* protective stop in progress: STOP_* */
         uint8_t stop_settle;    /* wait for the mechanics at rest before STOP_DISABLE/DEINIT */
         /* writers: motion.c motion_priv.h */

@@ -189,11 +189,11 @@ FW_INLINE void emergency_at(axis_t *x, uint8_t then, int32_t ed_t)
         x->stop_rest = 0;
         x->stop_limit = 0;
     }
-    if (x->stop_then < then)                     /* deinit > disable > hold */
-        x->stop_then = then;
+    if (x->stop_then > then)                     /* deinit > disable > hold */
+        then = x->stop_then;
     /* INC/SSI: a stop that disables waits for the mechanics at rest; the
      * STP is open loop: stopped is the step rate ramped to <ssf> and off */
-    x->stop_settle = CARD_STOP_SETTLES && x->stop_then != STOP_HOLD;
+    axis_stop_set(x, then, CARD_STOP_SETTLES && then != STOP_HOLD);
     brake_now(x, ed_t);                          /* from the next tick on, not the next SP */
 }
 
@@ -208,8 +208,7 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
     x->phase = 0;
     if (!(mode == M_RESET && x->stop_then >= STOP_DISABLE)) {
         /* (an MRE during a stop that disables: that stop goes on, guards and all) */
-        x->stop_then = STOP_NONE;
-        x->stop_settle = 0;
+        axis_stop_set(x, STOP_NONE, 0);
     }
     x->trt_count = 0;
     x->trt_periods = p->trt_periods;
@@ -260,7 +259,7 @@ void motion_emergency(unsigned n, uint8_t then)
 void motion_drive_fault(unsigned n)
 {
     motion_emergency(n, STOP_DISABLE);
-    axis_at[n]->stop_settle = 0;
+    axis_stop_settle_set(axis_at[n], 0);
 }
 
 /* A protective stop has ramped down (and, if it waits for it, the mechanics
@@ -276,8 +275,7 @@ void stop_done(unsigned n)
         if (then == STOP_DEINIT)
             x->ustat &= ~UB(INIT);
     }
-    x->stop_then = STOP_NONE;
-    x->stop_settle = 0;
+    axis_stop_set(x, STOP_NONE, 0);
     x->done = 1;
 }
 
