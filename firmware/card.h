@@ -160,14 +160,14 @@ typedef struct {
      * sets up the target and the settling time at E (motion_start); the
      * profile generator, the justification modes and the supervision's
      * index latch move the mode's progress on through motion_priv.h
-     * (mode_done, edge_found, index_latched, trt_count_step); the phase is
-     * the justification modes' (motion_justify.c) and the STP's creep's
-     * (stepper.c), motion.c zeroes it at E */
+     * (mode_done, edge_found, index_latched, trt_count_step,
+     * justify_phase); the phase is the justification modes' and the STP's
+     * creep's (stepper.c), motion.c zeroes it at E */
     struct {
         /* writers: motion.c motion_priv.h */
         int64_t target;     /* positioning target */
         int32_t edge;       /* justification: position of the edge / index found (edge_found) */
-        /* writers: motion.c motion_justify.c stepper.c */
+        /* writers: motion.c motion_priv.h stepper.c */
         uint8_t phase;      /* phase of a justification mode (STP: of the creep) */
         /* writers: motion.c motion_priv.h */
         uint8_t done;       /* the move of the current mode is complete (mode_done) */

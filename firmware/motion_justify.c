@@ -42,7 +42,7 @@ void justify_modes(unsigned n)
         if (x->phase == 0) {
             ramp(p, vq(n, PAR(n, CV)), vq(n, PAR(n, CA)), vq(n, PAR(n, CA)));
             if (x->idx_seen)
-                x->phase = 1;
+                justify_phase(x, 1);
         } else if (!x->done && ramp(p, 0, vq(n, PAR(n, CD)), vq(n, PAR(n, CD)))) {
             mode_done(x, 1);
             x->ustat |= UB(JUS_END);
@@ -62,22 +62,22 @@ void justify_modes(unsigned n)
         switch (x->phase) {
         case 0:                              /* 1: find the reference switch */
             if (sw_active(n, UB(REF))) {
-                x->phase = 1;
+                justify_phase(x, 1);
                 if (brake_at_switch(p, n, PAR(n, HD)))   /* STP: braking in this SP */
-                    x->phase = 2;
+                    justify_phase(x, 2);
             } else
                 ramp(p, vq(n, hv), vq(n, PAR(n, HA)), vq(n, PAR(n, HA)));
             break;
         case 1:                              /* brake with <hd> */
             if (ramp(p, 0, vq(n, PAR(n, HD)), vq(n, PAR(n, HD))))
-                x->phase = sw_active(n, UB(REF)) ? 2 : 0;
+                justify_phase(x, sw_active(n, UB(REF)) ? 2 : 0);
             break;
         case 2:                              /* 2: left edge of the switch at <lv> */
             if (!sw_active(n, UB(REF))) {
                 p->vel = 0;
                 left_switch_card(p, n);      /* onto the measurement (STP: not) */
                 arm_index(n);
-                x->phase = 3;
+                justify_phase(x, 3);
             } else {
                 p->pos += (p->vel = -vq(n, PAR(n, LV)));
             }
@@ -101,21 +101,21 @@ void justify_modes(unsigned n)
         switch (x->phase) {
         case 0:
             if (sw_active(n, bit)) {
-                x->phase = 1;
+                justify_phase(x, 1);
                 if (brake_at_switch(p, n, PAR(n, FD)))   /* STP: braking in this SP */
-                    x->phase = 2;
+                    justify_phase(x, 2);
             } else
                 ramp(p, sgn(dir, fv), vq(n, PAR(n, FA)), vq(n, PAR(n, FA)));
             break;
         case 1:
             if (ramp(p, 0, vq(n, PAR(n, FD)), vq(n, PAR(n, FD))))
-                x->phase = 2;
+                justify_phase(x, 2);
             break;
         case 2:                              /* back at <lv> to the transition */
             if (!sw_active(n, bit)) {
                 edge_found(x, x->meas);
                 justified(n, 0);
-                x->phase = 3;
+                justify_phase(x, 3);
             } else {
                 p->pos += (p->vel = sgn(-dir, vq(n, PAR(n, LV))));
             }

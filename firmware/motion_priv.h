@@ -71,6 +71,12 @@ FW_INLINE void trt_count_step(axis_t *x) { x->trt_count++; }
 FW_INLINE void trt_count_reset(axis_t *x) { x->trt_count = 0; }
 
 void justify_modes(unsigned n);                /* one SP of 5.7-5.10 (motion_justify.c) */
+/* The phase of a justification mode (5.7, 5.9, 5.10: the steps of each
+ * diagram), which motion_start zeroes at E (motion_justify.c). */
+FW_INLINE void justify_phase(axis_t *x, uint8_t phase)
+{
+    x->phase = phase;
+}
 
 /* After every tick of a stop that waits for the mechanics (stop_settle):
  * the loop brakes them to rest and holds the braked setpoint; the axis is
