@@ -92,10 +92,13 @@ FW_INLINE void tick_measure(axis_t *x, unsigned n)
  * filter, the DAC.  One body, instantiated with a constant path
  * (SERVO_PATH_*, the axis' servo_path, servo_card.h) so that neither the
  * mode, the brake nor the gains are tested in it but in the brake's path
- * of the general tick (general: card_servo_general, tick()).  ph4 is the
- * tick's phase in the SP times 4 (the row offset in bytes).  /EN follows
- * the mode in axis_set_mode(); here only the DAC. */
-FW_INLINE void tick_axis(axis_t *x, unsigned n, unsigned ph4, unsigned path, int general)
+ * of the general tick (general: card_servo_general, tick()).  The setpoint
+ * is entry ph4 / 4 of the row in force: at the SP boundary (boundary, a
+ * constant) the row take_row gave, still in a register, and entry 0;
+ * else x->sp_now's.  /EN follows the mode in axis_set_mode(); here only the
+ * DAC. */
+FW_INLINE void tick_axis(axis_t *x, unsigned n, const int32_t *row, unsigned ph4, unsigned path,
+                                                                       int general, int boundary)
 {
     int16_t u = 0;
     if (path == SERVO_PATH_IDLE) {
@@ -107,6 +110,8 @@ FW_INLINE void tick_axis(axis_t *x, unsigned n, unsigned ph4, unsigned path, int
         if (path == SERVO_PATH_BRAKE) {           /* a stop that cannot wait for the next SP */
             brake_step(x, brake_slower(x));
             sp = brake_setpoint(x);
+        } else if (boundary) {
+            sp = row[0];
         } else {
             sp = *(const int32_t *)(const void *)((const uint8_t *)x->sp_now + ph4);
         }
@@ -121,69 +126,92 @@ FW_INLINE void tick_axis(axis_t *x, unsigned n, unsigned ph4, unsigned path, int
     axis_dac_write(x, n, u);
 }
 
-/* One axis: its measurement, then the body its path byte names, read after
- * the measurement (an encoder error disables the axis there).  The K-only
- * tick (general 0) has no RUN_FULL: RUN_FULL means gains.full, and
- * axis.c's axis_set_gains, their one writer (card.h's writers: line, checked by
- * tools/onewriter.py), sets the axis' bit of card_servo_general with them,
- * so the general tick runs whenever an axis' path is RUN_FULL. */
-FW_INLINE void tick_axis_at(unsigned n, unsigned ph4, int general)
-{
-    axis_t *x = &axes[n];
-    PIN_PTR(x);
-    tick_measure(x, n);
-    uint8_t path = x->servo_path;
-    if (path == SERVO_PATH_RUN)
-        tick_axis(x, n, ph4, SERVO_PATH_RUN, general);
-    else if (general && path == SERVO_PATH_RUN_FULL)
-        tick_axis(x, n, ph4, SERVO_PATH_RUN_FULL, general);
-    else if (path == SERVO_PATH_BRAKE)
-        tick_axis(x, n, ph4, SERVO_PATH_BRAKE, general);
-    else
-        tick_axis(x, n, ph4, SERVO_PATH_IDLE, general);
-}
-
 /* The SP boundary for INC/SSI (the STP's is stp_take_segment), inlined
- * with a constant n; a late row counts in card_profile_late (only then:
- * the common case adds nothing) */
-FW_INLINE void take_row(unsigned n)
+ * with the axis a constant: the row in force from now.  A late row counts
+ * in card_profile_late (only then: the common case adds nothing). */
+FW_INLINE const int32_t *take_row(axis_t *x)
 {
-    axis_t *x = &axes[n];
-    PIN_PTR(x);
     int32_t *row = x->sp_now;
     if (x->nx_ready) {
-        x->sp_now = x->sp_next;
+        int32_t *next = x->sp_next;
+        x->sp_now = next;
         x->sp_next = row;
         x->sp_vel = x->sp_vel_next;
         x->nx_ready = 0;
-        return;
+        return next;
     }
     if (x->braking)
-        return;                                   /* the tick brakes by itself */
+        return row;                               /* the tick brakes by itself */
     row[0] = row[1] = row[2] = row[PROFILE_DIVIDER - 1u];
     x->sp_vel = 0;
     if (x->mode != M_DISABLE && x->mode != M_TEST)
         card_profile_late++;
+    return row;
+}
+
+FW_INLINE void take_row_at(unsigned n)
+{
+    axis_t *x = &axes[n];
+    PIN_PTR(x);
+    (void)take_row(x);
+}
+
+/* One axis: at the SP boundary of the K-only tick (boundary) its row
+ * first, then its measurement, then the body its path byte names, read
+ * after the measurement (an encoder error disables the axis there).  The
+ * K-only tick (general 0) has no RUN_FULL: RUN_FULL means gains.full, and
+ * axis.c's axis_set_gains, their one writer (card.h's writers: line, checked by
+ * tools/onewriter.py), sets the axis' bit of card_servo_general with them,
+ * so the general tick runs whenever an axis' path is RUN_FULL. */
+FW_INLINE void tick_axis_at(unsigned n, unsigned ph4, int general, int boundary)
+{
+    axis_t *x = &axes[n];
+    PIN_PTR(x);
+    const int32_t *row = 0;
+    if (boundary)
+        row = take_row(x);
+    tick_measure(x, n);
+    uint8_t path = x->servo_path;
+    if (path == SERVO_PATH_RUN)
+        tick_axis(x, n, row, ph4, SERVO_PATH_RUN, general, boundary);
+    else if (general && path == SERVO_PATH_RUN_FULL)
+        tick_axis(x, n, row, ph4, SERVO_PATH_RUN_FULL, general, boundary);
+    else if (path == SERVO_PATH_BRAKE)
+        tick_axis(x, n, row, ph4, SERVO_PATH_BRAKE, general, boundary);
+    else
+        tick_axis(x, n, row, ph4, SERVO_PATH_IDLE, general, boundary);
+}
+
+FW_INLINE void tick_axes(unsigned ph4, int general, int boundary)
+{
+    tick_axis_at(0, ph4, general, boundary);
+    tick_axis_at(1, ph4, general, boundary);
+    tick_axis_at(2, ph4, general, boundary);
+    tick_axis_at(3, ph4, general, boundary);
 }
 
 /* The tick, inlined twice: for K-only gains on every axis (the defaults)
- * and with the general filter inline (card_servo_general) */
+ * and with the general filter inline (card_servo_general).  The K-only
+ * tick has a body of its own for the SP boundary, its worst tick, which
+ * takes each axis' row where it runs the axis and reads the setpoint from
+ * it; the general tick (twice the code) takes the rows first. */
 FW_INLINE void tick(int general)
 {
     hal_wr16(TMR_STATUS, TMR_ST_EXPIRED);
     unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
-    if (phase == 0) {                             /* SP boundary: take the prepared rows */
-        take_row(0);
-        take_row(1);
-        take_row(2);
-        take_row(3);
+    if (phase == 0 && !general) {
+        tick_axes(0, general, 1);
         card_profile_due = MAC4_NAXES;
+    } else {
+        if (phase == 0) {                         /* SP boundary: take the prepared rows */
+            take_row_at(0);
+            take_row_at(1);
+            take_row_at(2);
+            take_row_at(3);
+            card_profile_due = MAC4_NAXES;
+        }
+        tick_axes(phase * 4u, general, 0);
     }
-    unsigned ph4 = phase * 4u;
-    tick_axis_at(0, ph4, general);
-    tick_axis_at(1, ph4, general);
-    tick_axis_at(2, ph4, general);
-    tick_axis_at(3, ph4, general);
     card_ticks++;
 }
 
