@@ -4,6 +4,7 @@
 #include "inline.h"
 #include <stdint.h>
 #include "hal.h"
+#include "mul16.h"
 #include "card.h"
 #include "params.h"
 
@@ -191,13 +192,15 @@ FW_INLINE int32_t measure_delta(const axis_t *x, const meas_cfg_t *c,
 FW_INLINE int measure_ssi_read(axis_t *x, unsigned n, uint32_t *rawp)
 {
     meas_cfg_t *c = &meas_cfg[n];
-    for (unsigned i = 0; (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY) && i < 200; i++)
-        ;
+    /* the poll: at most 200 more reads, the count set up only when the first finds it busy */
+    if (RARELY(hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY))
+        for (unsigned i = 0; (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY) && i < 199; i++)
+            ;
     uint32_t hi = hal_rd16(AX_REG(n, AX_SSI_HI));
     uint32_t raw = (((hi << 16) | hal_rd16(AX_REG(n, AX_SSI_LO))) >> c->sc) & c->mask;
     if (x->ustat & UB(GRAY))
         raw = gray_to_binary(raw);
-    if (raw > c->lim) {                                 /* beyond <ec> (4.4.2.1, 6.3.8) */
+    if (RARELY(raw > c->lim)) {                         /* beyond <ec> (4.4.2.1, 6.3.8) */
         x->raw = raw;
         measure_encoder_error(n);
         return -1;

@@ -16,6 +16,7 @@
 #include "servo_card.h"
 #include "tick_servo.h"
 
+
 /* The tick does only what must happen at the sampling instant (7.4):
  * measure, interpolate the setpoint, filter, drive the outputs.  Everything
  * that looks at the result - switches, protective reactions, stop bits,
@@ -56,8 +57,9 @@ FW_INLINE void measure_ext_error_axis(unsigned n)
 FW_INLINE int32_t tick_measure_ext(axis_t *x, unsigned n)
 {
     meas_cfg_t *c = &meas_cfg[n];
+    PIN_PTR(c);                                   /* its six fields: displacements, not absolute addresses */
     uint32_t raw;
-    if (MAC4_CARD == MAC4_CARD_SSI && c->path == EXT_VME32 && c->abs && x->linear) {
+    if (c->path == EXT_VME32 && c->abs && x->linear) {
         if (measure_ext_valid_k(x, c, n, &raw, 1) == 0)
             return measure_abs_take(x, raw);
         measure_ext_error_axis(n);
