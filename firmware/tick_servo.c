@@ -84,16 +84,16 @@ FW_INLINE int32_t tick_measure(axis_t *x, unsigned n)
     } else if (MAC4_CARD == MAC4_CARD_SSI && mk == MK_SSI_ABS) {   /* the encoder at the connector, absolute, linear */
         if (measure_ssi_read(x, n, &raw) == 0)
             return measure_abs_take(x, raw);
+    } else if (mk == MK_OTHER) {                  /* <et> 3/4, second: one test more for the SSI's others */
+        return tick_measure_ext(x, n);
     } else if (MAC4_CARD == MAC4_CARD_SSI && mk == MK_SSI_CIRC) {  /* absolute, circular */
         if (measure_ssi_read(x, n, &raw) == 0)
             return measure_circ_take(x, raw);
     } else if (MAC4_CARD == MAC4_CARD_SSI && mk == MK_SSI) {       /* relative, or followed as relative */
         if (measure_ssi(x, n, &d, 0) == 0)
             measure_apply(x, d);
-    } else if (mk != MK_NONE) {
-        return tick_measure_ext(x, n);
     }
-    return x->meas;
+    return x->meas;                               /* MK_NONE: nothing measured before INIT */
 }
 
 /* The SSI's measurements hand the measured position on in a register (an
@@ -186,10 +186,10 @@ FW_INLINE void tick_axis_at(unsigned n, unsigned ph4, int general, int boundary)
         row = take_row(x);
     int32_t meas = tick_measure(x, n);
     uint8_t path = x->servo_path;
-    if (path == SERVO_PATH_RUN)
-        tick_axis(x, n, meas, row, ph4, SERVO_PATH_RUN, boundary);
-    else if (general && path == SERVO_PATH_RUN_FULL)
+    if (general && path == SERVO_PATH_RUN_FULL)   /* first in the general tick: its worst */
         tick_axis(x, n, meas, row, ph4, SERVO_PATH_RUN_FULL, boundary);
+    else if (path == SERVO_PATH_RUN)
+        tick_axis(x, n, meas, row, ph4, SERVO_PATH_RUN, boundary);
     else if (path == SERVO_PATH_BRAKE)
         tick_axis(x, n, meas, row, ph4, SERVO_PATH_BRAKE, boundary);
     else if (general && path == SERVO_PATH_BRAKE_FULL)
