@@ -104,7 +104,7 @@ FW_INLINE int measure_ext_valid_k(axis_t *x, const meas_cfg_t *c, unsigned n,
     if (measure_ext_read_k(x, n, c, &raw, vme32))
         return -1;
     raw &= c->mask;
-    if (raw > c->lim) {                                 /* beyond <ec> (4.4.2.1, 6.3.8) */
+    if (RARELY(raw > c->lim)) {                         /* beyond <ec> (4.4.2.1, 6.3.8) */
         x->raw = raw;
         return -1;
     }

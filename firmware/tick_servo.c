@@ -207,10 +207,8 @@ FW_INLINE void tick_axes(unsigned ph4, int general, int boundary)
 }
 
 /* The general tick's four axes, the general filter inline (it runs K-only
- * gains the K-only way), the rows first at the SP boundary: one body out
- * of line, also the K-only tick's between SP boundaries, so that the
- * K-only tick's own body is only its worst tick's, the SP boundary's. */
-static void __attribute__((noinline)) tick_general(void)
+ * gains the K-only way), the rows first at the SP boundary ... */
+FW_INLINE void tick_general_body(void)
 {
     unsigned phase = card_ticks & (PROFILE_DIVIDER - 1u);
     if (phase == 0) {                             /* SP boundary: take the prepared rows */
@@ -224,6 +222,16 @@ static void __attribute__((noinline)) tick_general(void)
     card_ticks++;
 }
 
+/* ... out of line: the K-only tick's between SP boundaries, so that the
+ * K-only tick's own body is only its worst tick's, the SP boundary's; on
+ * the SSI also the general tick's (its image has no room for the body
+ * twice: 6 KiB), on the INC the general tick has it inline (no call). */
+static void __attribute__((noinline)) tick_general(void)
+{
+    tick_general_body();
+}
+#define TICK_GENERAL_INLINE (MAC4_CARD == MAC4_CARD_INC)
+
 /* The tick: the K-only one (general 0: K-only gains on every axis, the
  * defaults) has a body of its own for the SP boundary, which takes each
  * axis' row where it runs the axis and reads the setpoint from it. */
@@ -234,6 +242,8 @@ FW_INLINE void tick(int general)
         tick_axes(0, 0, 1);
         card_profile_due = MAC4_NAXES;
         card_ticks++;
+    } else if (general && TICK_GENERAL_INLINE) {
+        tick_general_body();
     } else {
         tick_general();
     }
