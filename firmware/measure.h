@@ -38,8 +38,8 @@ void measure_encoder_error(unsigned n);   /* 6.3.8, once (measure.c) */
 
 /* ---- per card: servo_meas.c (INC, SSI), stp_meas.c (STP) -------------------
  * The tick's external measurement (MK_OTHER), out of line so that the tick's
- * common paths keep their registers (the SSI's tick has the common case
- * inline: tick_servo.c tick_measure_ext); the pointers are the tick's
+ * common paths keep their registers (the tick has the common case inline:
+ * tick_servo.c tick_measure_ext); the pointers are the tick's
  * constants.  The STP turns the reading into steps (4.4.2.3). */
 void measure_ext(axis_t *x, meas_cfg_t *c, unsigned n);
 /* INC/SSI: the same for axis 0 .. 3, the tick's (tick_servo.c measure_ext_axis) */
@@ -47,7 +47,7 @@ void measure_ext_0(void);
 void measure_ext_1(void);
 void measure_ext_2(void);
 void measure_ext_3(void);
-/* SSI: the encoder error of the tick's inline path, axis 0 .. 3 */
+/* INC/SSI: the encoder error of the tick's inline path, axis 0 .. 3 */
 void measure_ext_error_0(void);
 void measure_ext_error_1(void);
 void measure_ext_error_2(void);

@@ -48,12 +48,11 @@ FW_INLINE void measure_ext_error_axis(unsigned n)
         measure_ext_error_3();
 }
 
-/* The tick's external measurement (MK_OTHER), <et> 3/4, n a constant.  On
- * the SSI the common case - 32-bit VMEbus reads of an absolute encoder on
- * a linear axis - inline, and the rest out of line (servo_meas.c); on the
- * INC all out of line, so that the counter's path falls through to the
- * rest of the axis (inline, the one taken branch is the counter's: 40
- * cycles more in every INC tick).  The measured position afterwards. */
+/* The tick's external measurement (MK_OTHER), <et> 3/4, n a constant: the
+ * common case - 32-bit VMEbus reads of an absolute encoder on a linear
+ * axis - inline (the INC's counter path still falls through to the rest of
+ * the axis), the rest out of line (servo_meas.c).  The measured position
+ * afterwards. */
 FW_INLINE int32_t tick_measure_ext(axis_t *x, unsigned n)
 {
     meas_cfg_t *c = &meas_cfg[n];
@@ -69,8 +68,8 @@ FW_INLINE int32_t tick_measure_ext(axis_t *x, unsigned n)
     return x->meas;
 }
 
-/* The measurement of one axis of the INC/SSI tick, the card's own encoder
- * first: one test on the common path.  Inlined four times with a constant
+/* The measurement of one axis of the INC/SSI tick, the card's own common
+ * kind first (one test on the common path), the external one second.  Inlined four times with a constant
  * n, so the registers are absolute addresses and the axis one address
  * register.  The measured position afterwards: an absolute reading gives it
  * in a register. */
