@@ -247,6 +247,7 @@ typedef struct {
 #define MK_NONE 2       /* not initialised: position reads 0 (4.9) */
 #define MK_SSI 3        /* MAC4-SSI, the encoder at the connector: measure_ssi() in the tick */
 #define MK_SSI_ABS 4    /* the same, absolute on a linear axis (the SSI's defaults): the reading is the position */
+#define MK_SSI_CIRC 5   /* the same, absolute on a circular axis: the motion the shorter way round */
 
 /* in the order of precedence: a later stop only raises it */
 #define STOP_NONE 0

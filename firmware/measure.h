@@ -4,6 +4,7 @@
 #include "inline.h"
 #include <stdint.h>
 #include "hal.h"
+#include "mul16.h"
 #include "card.h"
 #include "params.h"
 
@@ -37,8 +38,8 @@ void measure_encoder_error(unsigned n);   /* 6.3.8, once (measure.c) */
 
 /* ---- per card: servo_meas.c (INC, SSI), stp_meas.c (STP) -------------------
  * The tick's external measurement (MK_OTHER), out of line so that the tick's
- * common paths keep their registers (the SSI's tick has the common case
- * inline: tick_servo.c tick_measure_ext); the pointers are the tick's
+ * common paths keep their registers (the tick has the common case inline:
+ * tick_servo.c tick_measure_ext); the pointers are the tick's
  * constants.  The STP turns the reading into steps (4.4.2.3). */
 void measure_ext(axis_t *x, meas_cfg_t *c, unsigned n);
 /* INC/SSI: the same for axis 0 .. 3, the tick's (tick_servo.c measure_ext_axis) */
@@ -46,7 +47,7 @@ void measure_ext_0(void);
 void measure_ext_1(void);
 void measure_ext_2(void);
 void measure_ext_3(void);
-/* SSI: the encoder error of the tick's inline path, axis 0 .. 3 */
+/* INC/SSI: the encoder error of the tick's inline path, axis 0 .. 3 */
 void measure_ext_error_0(void);
 void measure_ext_error_1(void);
 void measure_ext_error_2(void);
@@ -103,7 +104,7 @@ FW_INLINE int measure_ext_valid_k(axis_t *x, const meas_cfg_t *c, unsigned n,
     if (measure_ext_read_k(x, n, c, &raw, vme32))
         return -1;
     raw &= c->mask;
-    if (raw > c->lim) {                                 /* beyond <ec> (4.4.2.1, 6.3.8) */
+    if (RARELY(raw > c->lim)) {                         /* beyond <ec> (4.4.2.1, 6.3.8) */
         x->raw = raw;
         return -1;
     }
@@ -186,23 +187,35 @@ FW_INLINE int32_t measure_delta(const axis_t *x, const meas_cfg_t *c,
 /* SSI at the connector, everything prepared at INIT (the tick's path; INIT
  * itself reads with ssi_meas.c's measure_read_enc): the receiver read the encoder at the timer's expiry
  * (AX_CTRL_SSI_SYNC) and the tick came when it was done (TMR_CTRL_SSI_WAIT;
- * the poll is the safety net).  0 and the motion since the last reading, or
- * -1 after an encoder error. */
-FW_INLINE int measure_ssi(axis_t *x, unsigned n, int32_t *dp, int abs_linear)
+ * the poll is the safety net).  0 and the reading, or -1 after an encoder
+ * error. */
+FW_INLINE int measure_ssi_read(axis_t *x, unsigned n, uint32_t *rawp)
 {
     meas_cfg_t *c = &meas_cfg[n];
-    for (unsigned i = 0; (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY) && i < 200; i++)
-        ;
+    /* the poll: at most 200 more reads, the count set up only when the first finds it busy */
+    if (RARELY(hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY))
+        for (unsigned i = 0; (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY) && i < 199; i++)
+            ;
     uint32_t hi = hal_rd16(AX_REG(n, AX_SSI_HI));
     uint32_t raw = (((hi << 16) | hal_rd16(AX_REG(n, AX_SSI_LO))) >> c->sc) & c->mask;
     if (x->ustat & UB(GRAY))
         raw = gray_to_binary(raw);
-    if (raw > c->lim) {                                 /* beyond <ec> (4.4.2.1, 6.3.8) */
+    if (RARELY(raw > c->lim)) {                         /* beyond <ec> (4.4.2.1, 6.3.8) */
         x->raw = raw;
         measure_encoder_error(n);
         return -1;
     }
-    int32_t d = measure_delta_k(x, c, raw, abs_linear);
+    *rawp = raw;
+    return 0;
+}
+
+/* ... and the motion since the last reading */
+FW_INLINE int measure_ssi(axis_t *x, unsigned n, int32_t *dp, int abs_linear)
+{
+    uint32_t raw;
+    if (measure_ssi_read(x, n, &raw))
+        return -1;
+    int32_t d = measure_delta_k(x, &meas_cfg[n], raw, abs_linear);
     x->raw = raw;
     x->counter = raw;
     *dp = d;
@@ -233,16 +246,23 @@ FW_INLINE void measure_meas_set(axis_t *x, int32_t meas) { x->meas = meas; }
 /* The motion d into the measured position and the displayed one, which a
  * circular axis keeps in 0 .. <cr>-1 (4.3.1.2).  RAV: card_supervise.
  * linear, a constant: the caller knows the axis is linear (MK_SSI_ABS). */
-FW_INLINE void measure_apply_k(axis_t *x, int32_t d, int linear)
+FW_INLINE int32_t measure_wrapped(const axis_t *x, int32_t pos)
 {
-    x->meas = pos_add(x->meas, d);
-    int32_t pos = pos_add(x->pos, d);
-    if (!linear && !x->linear && (uint32_t)pos >= (uint32_t)x->cr) {   /* one compare inside 0 .. <cr>-1 */
+    if ((uint32_t)pos >= (uint32_t)x->cr) {       /* one compare inside 0 .. <cr>-1 */
         while (pos >= x->cr)
             pos -= x->cr;
         while (pos < 0)
             pos += x->cr;
     }
+    return pos;
+}
+
+FW_INLINE void measure_apply_k(axis_t *x, int32_t d, int linear)
+{
+    x->meas = pos_add(x->meas, d);
+    int32_t pos = pos_add(x->pos, d);
+    if (!linear && !x->linear)
+        pos = measure_wrapped(x, pos);
     x->pos = pos;
 }
 
@@ -254,6 +274,32 @@ FW_INLINE void measure_raw_take(axis_t *x, uint32_t raw)
 {
     x->raw = raw;
     x->counter = raw;
+}
+
+/* A valid absolute reading raw of a linear axis: it is the measured
+ * position, and the displayed one moves by the motion since the last
+ * reading; what measure_delta_k and measure_apply_k make of it, with the
+ * position returned (the tick's setpoint difference takes it from there). */
+FW_INLINE int32_t measure_abs_take(axis_t *x, uint32_t raw)
+{
+    x->pos = pos_add(x->pos, pos_sub((int32_t)raw, x->meas));
+    measure_raw_take(x, raw);
+    x->meas = (int32_t)raw;
+    return (int32_t)raw;
+}
+
+/* ... and of a circular axis (4.3.1.2): the motion the shorter way round
+ * (circular_delta) into both positions, the displayed one wrapped; what
+ * measure_delta_k and measure_apply_k make of it, the measured position
+ * returned. */
+FW_INLINE int32_t measure_circ_take(axis_t *x, uint32_t raw)
+{
+    int32_t d = circular_delta(x, raw);
+    measure_raw_take(x, raw);
+    int32_t meas = pos_add(x->meas, d);
+    x->meas = meas;
+    x->pos = measure_wrapped(x, pos_add(x->pos, d));
+    return meas;
 }
 
 /* A valid reading raw into the measured position: the motion since the

@@ -73,10 +73,10 @@ FW_INLINE int16_t servo_e_limited(const servo_gains_t *g, int32_t e32)
 {
     uint32_t lim = (uint32_t)(int32_t)g->e_lim;
     IN_REG(lim);
-    int16_t e = (int16_t)e32;       /* first: the common case falls through */
-    if ((uint32_t)e32 + lim > lim + lim)
-        e = (int16_t)(e32 < 0 ? 0u - lim : lim);
-    return e;
+    uint32_t t = (uint32_t)e32 + lim;   /* e32's register: e is t - lim again */
+    if (RARELY(t > lim + lim))
+        return (int16_t)((int32_t)(t - lim) < 0 ? 0u - lim : lim);
+    return (int16_t)(t - lim);
 }
 
 /* The general filter, inline for the tick (servo_step).  In Q8:

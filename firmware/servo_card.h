@@ -24,14 +24,15 @@ enum {
     SERVO_PATH_IDLE,        /* disabled (0 V) or test mode (<da>): no setpoint, no filter */
     SERVO_PATH_RUN,         /* a mode with a profile, the setpoint from the SP's row, K only */
     SERVO_PATH_RUN_FULL,    /* the same with the general filter (servo_gains_t.full) */
-    SERVO_PATH_BRAKE        /* braked by the tick itself (x->braking), either filter */
+    SERVO_PATH_BRAKE,       /* braked by the tick itself (x->braking), K only */
+    SERVO_PATH_BRAKE_FULL   /* the same with the general filter */
 };
 FW_INLINE uint8_t servo_path_of(const axis_t *x)
 {
     if (x->mode == M_DISABLE || x->mode == M_TEST)
         return SERVO_PATH_IDLE;
     if (x->braking)
-        return SERVO_PATH_BRAKE;
+        return x->gains.full ? SERVO_PATH_BRAKE_FULL : SERVO_PATH_BRAKE;
     return x->gains.full ? SERVO_PATH_RUN_FULL : SERVO_PATH_RUN;
 }
 FW_INLINE void servo_path_set(axis_t *x) { x->servo_path = servo_path_of(x); }

@@ -44,10 +44,15 @@ int measure_read_enc(unsigned n, const meas_cfg_t *c, uint32_t *raw)
     return 0;
 }
 
-/* The tick's measure_ssi, absolute on a linear axis its shorter path. */
+/* The tick's measure_ssi; absolute, a path of its own on a linear axis and
+ * on a circular one (the compensation table follows only the linear one as
+ * relative: the circular one's motion is already the difference of two
+ * readings, axis.h axis_kind_relative). */
 uint8_t measure_kind_enc(int32_t et, int linear)
 {
-    return et == 2 && linear ? MK_SSI_ABS : MK_SSI;
+    if (et != 2)
+        return MK_SSI;
+    return linear ? MK_SSI_ABS : MK_SSI_CIRC;
 }
 
 /* The receiver reads the encoder at every timer expiry (the sampling

@@ -81,6 +81,11 @@ FW_INLINE void mulu31(uint32_t a, uint32_t b, uint32_t *hi, uint32_t *lo)
 #define IN_REG(x) ((void)0)
 #endif
 
+/* A condition the tick's common path does not meet (a limit, an encoder
+ * error, a busy receiver): GCC -Os lays its branch out of the way, so the
+ * common path falls through instead of jumping there and back. */
+#define RARELY(c) __builtin_expect(!!(c), 0)
+
 /* Pin a pointer in an address register: GCC 12 -Os for m68k would rather
  * recompute &axes[n] (a multiply by the struct size) at every use. */
 #if defined(HAL_TARGET)

@@ -444,7 +444,9 @@ static void gen_axis(unsigned n, int scen)
         int sc = broad ? (int)rnd_below(26) : 2;
         int eb = broad ? (int)rnd_range(1, 26 - sc) : 24;
         c->sc = (uint8_t)sc;
-        int abs = routine_kind == R_SSI_ABS ? 1 : broad ? rnd_pct(50) : 1;
+        /* S_REL_LINEAR: the absolute reading followed as relative, as a
+         * compensation table has it (ext_comp.c clears abs) */
+        int abs = routine_kind == R_SSI_ABS ? 1 : broad ? rnd_pct(50) : scen != S_REL_LINEAR;
         cfg_range(c, eb, broad && rnd_pct(30) ? rnd_below(eb_mask(eb) < INT32_MAX ? eb_mask(eb) : INT32_MAX) + 1u : 0, abs);
         if (routine_kind == R_SSI_ABS) {
             x->linear = 1;
