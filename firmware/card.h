@@ -114,10 +114,10 @@ typedef struct {
         int32_t sp_vel, sp_vel_next;    /* the rows' velocity, Q16 per SP */
     };
     /* STP: the setpoint the tick interpolates in the segment it took: the
-     * tick's (tick_stp.c, stp_rate.c's creep and trim), set again by
+     * tick's (tick_stp.c, stp_rate.h's creep and trim), set again by
      * motion.c's hold and brake_done, masked */
     struct {
-        /* writers: tick_stp.c stp_rate.c motion.c stp_motion.h */
+        /* writers: tick_stp.c stp_rate.h motion.c stp_motion.h */
         int32_t sp_i;       /* setpoint, integer part */
         uint16_t sp_f;      /* and Q16 fraction */
         uint16_t st_f;      /* the segment's step per tick, split the same way */
