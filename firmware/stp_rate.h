@@ -12,6 +12,7 @@
 #include "stepper.h"
 #include "stp_card.h"
 
+
 void stp_idle_output(unsigned n);             /* disabled or test mode */
 
 /* The rate register for t = |distance| + carry Q16 steps in this tick: the
@@ -166,29 +167,31 @@ FW_INLINE void stp_trim_at(const axis_t *x, stp_t *s, unsigned n)
 }
 
 /* Every tick, modes with a profile (tick_stp.c stp_axis, after the setpoint
- * interpolation moved sp_i/sp_f on from old_i/old_f): the step rate for
- * this tick's distance, the setpoint and following error.  Every case - the
- * creep phase and the trim, on in the last direction, a new one,
- * stand-still, a jump - in one body, inlined with a constant n. */
-FW_INLINE void stp_rate(axis_t *x, stp_t *s, unsigned n, unsigned phase, int32_t old_i, uint16_t old_f)
+ * interpolation moved it on from old_i/old_f to sp_i/sp_f, both in
+ * registers): the step rate for this tick's distance, the setpoint and
+ * following error.  Every case - the creep phase and the trim, on in the
+ * last direction, a new one, stand-still, a jump - in one body, inlined
+ * with a constant n. */
+FW_INLINE void stp_rate(axis_t *x, stp_t *s, unsigned n, unsigned phase, int32_t old_i, uint16_t old_f,
+                        int32_t sp_i, uint16_t sp_f)
 {
     if (s->creep != CREEP_IDLE) {
         int c = stp_creep_tick(x, s, n, phase, old_i, old_f);
         if (c == 1)
             return;
-        if (c == 2) {
-            old_i = x->sp_i;
-            old_f = x->sp_f;
+        if (c == 2) {                            /* the setpoint moved under us: stand still */
+            old_i = sp_i = x->sp_i;
+            old_f = sp_f = x->sp_f;
         }
     }
     /* the setpoint of the last tick is where its steps have brought the
      * axis by now (the steps of this tick are still to come, 4.8.1) */
-    int32_t di = pos_sub(x->sp_i, old_i);
+    int32_t di = pos_sub(sp_i, old_i);
     int32_t d;
-    if ((uint32_t)di + 30000u > 60000u)          /* a jump beyond 30000 steps: the largest rate */
+    if ((uint32_t)di + 30000u > 60000u)   /* a jump beyond 30000 steps: the largest rate */
         d = di > 0 ? 0x7FFFFFFF : -0x7FFFFFFF;
     else
-        d = (int32_t)((uint32_t)di << 16) + (int32_t)x->sp_f - (int32_t)old_f;
+        d = (int32_t)((uint32_t)di << 16) + (int32_t)sp_f - (int32_t)old_f;
     int32_t sp = pos_add(old_i, old_f >= 0x8000u);
     axis_result_set(x, sp);
     if (d == 0) {

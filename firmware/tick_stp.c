@@ -77,6 +77,8 @@ FW_INLINE void stp_axis(unsigned n, unsigned phase, unsigned path)
      * bits; the segment's start and end are taken exactly from the profile. */
     int32_t old_i = x->sp_i;
     uint16_t old_f = x->sp_f;
+    int32_t i;
+    uint16_t f;
     if (path == STP_PATH_BRAKE) {                /* a stop that cannot wait for the next SP */
         int32_t v = brake_slower(x), ssf = x->br_ssf;
         if (v <= ssf && v >= -ssf) {
@@ -86,26 +88,23 @@ FW_INLINE void stp_axis(unsigned n, unsigned phase, unsigned path)
             v = w > ssf ? ssf : w < -ssf ? -ssf : 0;
         }
         brake_step(x, v);
-        int32_t i;
-        uint16_t f;
         brake_split(x, &i, &f);                  /* into locals: they alias nothing */
-        x->sp_i = i;
-        x->sp_f = f;
     } else if (phase == 3) {
-        x->sp_i = x->end_i;
-        x->sp_f = x->end_f;
+        i = x->end_i;
+        f = x->end_f;
     } else {
-        int32_t i = old_i;
-        uint16_t f = old_f;
+        int32_t b = old_i;
+        uint16_t bf = old_f;
         if (phase == 0) {
-            i = x->start_i;
-            f = x->start_f;
+            b = x->start_i;
+            bf = x->start_f;
         }
-        uint32_t t = (uint32_t)f + x->st_f;
-        x->sp_i = pos_add(pos_add(i, x->st_i), (int32_t)(t >> 16));
-        x->sp_f = (uint16_t)t;
+        f = (uint16_t)(bf + x->st_f);
+        i = pos_add(pos_add(b, x->st_i), f < bf);    /* the fraction's carry */
     }
-    stp_rate(x, s, n, phase, old_i, old_f);      /* step rate, creep phase, setpoint, RFE */
+    x->sp_i = i;
+    x->sp_f = f;
+    stp_rate(x, s, n, phase, old_i, old_f, i, f);    /* step rate, creep phase, RFE */
     /* the outputs of a running axis (tick.h axis_output_at, stp_output):
      * /EN, DIR, BOOST, TURBO and the rate the rate stage prepared */
     uint16_t ctrl = (uint16_t)((x->ctrl & ~(AX_CTRL_EN | STP_OBITS)) | AX_CTRL_EN | s->obits);
