@@ -191,8 +191,10 @@ FW_INLINE void stp_rate(axis_t *x, stp_t *s, unsigned n, unsigned phase, int32_t
     if ((uint32_t)di + 30000u > 60000u)   /* a jump beyond 30000 steps: the largest rate */
         d = di > 0 ? 0x7FFFFFFF : -0x7FFFFFFF;
     else
-        d = (int32_t)((uint32_t)di << 16) + (int32_t)sp_f - (int32_t)old_f;
-    int32_t sp = pos_add(old_i, old_f >= 0x8000u);
+        d = (int32_t)(((uint32_t)di << 16) | sp_f) - (int32_t)old_f;   /* the low word is sp_f's alone */
+    int32_t sp = old_i;
+    if ((int16_t)old_f < 0)                      /* rounded: a fraction of a half or more */
+        sp = pos_add(sp, 1);
     axis_result_set(x, sp);
     if (d == 0) {
         /* stand-still: the step counter must read the setpoint (the trim) */
