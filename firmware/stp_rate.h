@@ -22,13 +22,13 @@ void stp_idle_output(unsigned n);             /* disabled or test mode */
  * register saturates and the carry is dropped.  (tests/unit/test_stepper.c) */
 FW_INLINE void stp_load_rate(stp_t *s, uint32_t t)
 {
-    if (t >= s->lim) {
-        s->carry = 0;
-        s->rate = 0xFFFFu;
-    } else {
+    if (t < s->lim) {                            /* (the common case first: it falls through) */
         uint32_t qr = stp_divu16(t, s->clocks);
         s->carry = qr >> 16;
         s->rate = (uint16_t)qr;
+    } else {
+        s->carry = 0;
+        s->rate = 0xFFFFu;
     }
 }
 
@@ -166,57 +166,66 @@ FW_INLINE void stp_trim_at(const axis_t *x, stp_t *s, unsigned n)
     s->rate = s->lv_rate;
 }
 
-/* Every tick, modes with a profile (tick_stp.c stp_axis, after the setpoint
- * interpolation moved it on from old_i/old_f to sp_i/sp_f, both in
- * registers): the step rate for this tick's distance, the setpoint and
- * following error.  Every case - the creep phase and the trim, on in the
- * last direction, a new one, stand-still, a jump - in one body, inlined
- * with a constant n. */
-FW_INLINE void stp_rate(axis_t *x, stp_t *s, unsigned n, unsigned phase, int32_t old_i, uint16_t old_f,
-                        int32_t sp_i, uint16_t sp_f)
+/* The step rate for the distance from old_i/old_f to sp_i/sp_f, the
+ * setpoint and following error (stp_rate below, without the creep phase).
+ * Each test has its common case first: GCC lays a then-block out to fall
+ * through, so the moving tick takes no branch back. */
+FW_INLINE void stp_rate_on(axis_t *x, stp_t *s, unsigned n, int32_t old_i, uint16_t old_f,
+                           int32_t sp_i, uint16_t sp_f)
 {
-    if (s->creep != CREEP_IDLE) {
-        int c = stp_creep_tick(x, s, n, phase, old_i, old_f);
-        if (c == 1)
-            return;
-        if (c == 2) {                            /* the setpoint moved under us: stand still */
-            old_i = sp_i = x->sp_i;
-            old_f = sp_f = x->sp_f;
-        }
-    }
     /* the setpoint of the last tick is where its steps have brought the
      * axis by now (the steps of this tick are still to come, 4.8.1) */
     int32_t di = pos_sub(sp_i, old_i);
     int32_t d;
-    if ((uint32_t)di + 30000u > 60000u)   /* a jump beyond 30000 steps: the largest rate */
+    if ((uint32_t)di + 30000u <= 60000u)         /* the low word is sp_f's alone */
+        d = (int32_t)(((uint32_t)di << 16) | sp_f) - (int32_t)old_f;
+    else                                         /* a jump beyond 30000 steps: the largest rate */
         d = di > 0 ? 0x7FFFFFFF : -0x7FFFFFFF;
-    else
-        d = (int32_t)(((uint32_t)di << 16) | sp_f) - (int32_t)old_f;   /* the low word is sp_f's alone */
     int32_t sp = old_i;
     if ((int16_t)old_f < 0)                      /* rounded: a fraction of a half or more */
         sp = pos_add(sp, 1);
     axis_result_set(x, sp);
-    if (d == 0) {
-        /* stand-still: the step counter must read the setpoint (the trim) */
-        if (x->ferr && !s->rate && !x->prof.vel && !(stp_conv & (1u << n)))
-            stp_trim_at(x, s, n);
-        else
-            s->rate = 0;
+    if (d != 0) {
+        int8_t dir = 1;
+        uint32_t mag = (uint32_t)d;
+        if (d < 0) {
+            dir = -1;
+            mag = (uint32_t)-d;
+        }
+        if (dir != s->dir) {                     /* a new direction: DIR, and no remainder */
+            s->dir = dir;
+            s->carry = 0;
+            s->obits = (uint16_t)((s->obits & ~AX_CTRL_DIR) | stp_dir_bit(x, dir));
+        }
+        /* |d| <= 0x7FFFFFFF and the carry a 16-bit remainder: the sum cannot wrap */
+        stp_load_rate(s, mag + s->carry);
+    } else if (x->ferr && !s->rate && !x->prof.vel && !(stp_conv & (1u << n))) {
+        stp_trim_at(x, s, n);                    /* stand-still: the step counter must read the setpoint */
+    } else {
+        s->rate = 0;
+    }
+}
+
+/* Every tick, modes with a profile (tick_stp.c stp_axis, after the setpoint
+ * interpolation moved it on from old_i/old_f to sp_i/sp_f, both in
+ * registers): the creep phase and the trim, else the step rate for this
+ * tick's distance - on in the last direction, a new one, stand-still, a
+ * jump - inlined with a constant n. */
+FW_INLINE void stp_rate(axis_t *x, stp_t *s, unsigned n, unsigned phase, int32_t old_i, uint16_t old_f,
+                        int32_t sp_i, uint16_t sp_f)
+{
+    if (s->creep == CREEP_IDLE) {                /* the common case first, as above */
+        stp_rate_on(x, s, n, old_i, old_f, sp_i, sp_f);
         return;
     }
-    int8_t dir = 1;
-    uint32_t mag = (uint32_t)d;
-    if (d < 0) {
-        dir = -1;
-        mag = (uint32_t)-d;
+    int c = stp_creep_tick(x, s, n, phase, old_i, old_f);
+    if (c == 1)
+        return;
+    if (c == 2) {                                /* the setpoint moved under us: stand still */
+        old_i = sp_i = x->sp_i;
+        old_f = sp_f = x->sp_f;
     }
-    if (dir != s->dir) {                         /* a new direction: DIR, and no remainder */
-        s->dir = dir;
-        s->carry = 0;
-        s->obits = (uint16_t)((s->obits & ~AX_CTRL_DIR) | stp_dir_bit(x, dir));
-    }
-    /* |d| <= 0x7FFFFFFF and the carry a 16-bit remainder: the sum cannot wrap */
-    stp_load_rate(s, mag + s->carry);
+    stp_rate_on(x, s, n, old_i, old_f, sp_i, sp_f);
 }
 
 /* axis_output, every tick: DIR, BOOST, TURBO of AX_CTRL; returns the rate. */

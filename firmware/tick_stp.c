@@ -89,10 +89,7 @@ FW_INLINE void stp_axis(unsigned n, unsigned phase, unsigned path)
         }
         brake_step(x, v);
         brake_split(x, &i, &f);                  /* into locals: they alias nothing */
-    } else if (phase == 3) {
-        i = x->end_i;
-        f = x->end_f;
-    } else {
+    } else if (phase != 3) {                     /* (the common case first: GCC lays it out to fall through) */
         int32_t b = old_i;
         uint16_t bf = old_f;
         if (phase == 0) {
@@ -101,6 +98,9 @@ FW_INLINE void stp_axis(unsigned n, unsigned phase, unsigned path)
         }
         f = (uint16_t)(bf + x->st_f);
         i = pos_add(pos_add(b, x->st_i), f < bf);    /* the fraction's carry */
+    } else {
+        i = x->end_i;
+        f = x->end_f;
     }
     x->sp_i = i;
     x->sp_f = f;
