@@ -316,7 +316,10 @@ FW_INLINE int32_t brake_setpoint(const axis_t *x)
 FW_INLINE void brake_split(const axis_t *x, int32_t *i, uint16_t *f)
 {
     uint16_t lo = (uint16_t)x->br_posh;
-    *i = (int32_t)((uint32_t)(x->br_posh >> 16) - (lo < BR_HALF));
+    uint32_t hi = (uint32_t)(x->br_posh >> 16);
+    if ((int16_t)lo >= 0)                       /* lo < BR_HALF: a test of its top bit */
+        hi--;
+    *i = (int32_t)hi;
     *f = (uint16_t)(lo ^ BR_HALF);
 }
 
