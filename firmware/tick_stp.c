@@ -56,6 +56,15 @@ FW_INLINE void stp_take_segment(unsigned n)
         card_profile_late++;
 }
 
+/* The setpoint a step per tick on from b + bf (the segment's start, or the
+ * last tick's setpoint). */
+FW_INLINE void stp_step(const axis_t *x, int32_t b, uint16_t bf, int32_t *i, uint16_t *f)
+{
+    uint16_t nf = (uint16_t)(bf + x->st_f);
+    *i = pos_add(pos_add(b, x->st_i), nf < bf);  /* the fraction's carry */
+    *f = nf;
+}
+
 /* One axis of the STP tick after its measurement: the setpoint, the step
  * rate (stepper.h stp_rate), the outputs.  One body, instantiated with a
  * constant path (STP_PATH_*, the axis' stp_path) so that neither the mode
@@ -89,15 +98,10 @@ FW_INLINE void stp_axis(unsigned n, unsigned phase, unsigned path)
         }
         brake_step(x, v);
         brake_split(x, &i, &f);                  /* into locals: they alias nothing */
-    } else if (phase != 3) {                     /* (the common case first: GCC lays it out to fall through) */
-        int32_t b = old_i;
-        uint16_t bf = old_f;
-        if (phase == 0) {
-            b = x->start_i;
-            bf = x->start_f;
-        }
-        f = (uint16_t)(bf + x->st_f);
-        i = pos_add(pos_add(b, x->st_i), f < bf);    /* the fraction's carry */
+    } else if (phase == 0) {                     /* the SP boundary's, the longest tick, first */
+        stp_step(x, x->start_i, x->start_f, &i, &f);
+    } else if (phase != 3) {
+        stp_step(x, old_i, old_f, &i, &f);
     } else {
         i = x->end_i;
         f = x->end_f;
