@@ -61,7 +61,10 @@ FW_INLINE void stp_take_segment(unsigned n)
 FW_INLINE void stp_step(const axis_t *x, int32_t b, uint16_t bf, int32_t *i, uint16_t *f)
 {
     uint16_t nf = (uint16_t)(bf + x->st_f);
-    *i = pos_add(pos_add(b, x->st_i), nf < bf);  /* the fraction's carry */
+    int32_t ni = pos_add(b, x->st_i);
+    if (nf < bf)                                 /* the fraction's carry */
+        ni = pos_add(ni, 1);
+    *i = ni;
     *f = nf;
 }
 
