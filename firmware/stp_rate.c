@@ -1,7 +1,7 @@
 /*
  * stp_rate.c - the MAC4-STP's step-rate stage: the rate register for a
- * tick's distance is stepper.h's stp_rate and the creep phase's tick part
- * stp_rate.h's stp_creep_tick (both inline in the tick); here the end of a
+ * tick's distance is stp_rate.h's stp_rate and the creep phase's tick part
+ * stp_rate.h's creep_tick (both inline in the tick); here the end of a
  * creep phase (5.6, diagram 5.2) or of the trim, its abort, the output of a
  * disabled or tested axis (5.13), ROUT.  The
  * STP's image alone links it (Makefile, FW_STP).
@@ -18,10 +18,10 @@
 #include "motion.h"
 #include "stp_card.h"
 
-int32_t stp_edge(unsigned n, int32_t d) { return stp_edge_of(&axes[n], &stp_ax[n], n, d); }
+int32_t stp_edge(unsigned n, int32_t d) { return edge_of(&axes[n], &stp_ax[n], n, d); }
 
-/* ---- the creep phase: its tick part is stp_rate.h's (stp_creep_tick) ------ */
-void stp_creep_stop(axis_t *x, stp_t *s, uint32_t reg)   /* reg: AX_REG(n, 0) */
+/* ---- the creep phase: its tick part is stp_rate.h's (creep_tick) ----------- */
+void creep_stop(axis_t *x, stp_t *s, uint32_t reg)   /* reg: AX_REG(n, 0) */
 {
     if (s->creep == CREEP_RUN || s->creep == CREEP_TRIM) {
         hal_wr16(reg + AX_RATE, 0);
@@ -40,7 +40,7 @@ void stp_creep_stop(axis_t *x, stp_t *s, uint32_t reg)   /* reg: AX_REG(n, 0) */
 void stp_creep_abort(unsigned n)
 {
     uint8_t c = stp_ax[n].creep;
-    stp_creep_stop(&axes[n], &stp_ax[n], AX_REG(n, 0));
+    creep_stop(&axes[n], &stp_ax[n], AX_REG(n, 0));
     if (c != CREEP_DONE)
         motion_hold(n);
 }
@@ -69,7 +69,7 @@ void stp_idle_output(unsigned n)
         return;
     }
     if (s->creep != CREEP_IDLE)
-        stp_creep_stop(x, s, AX_REG(n, 0));
+        creep_stop(x, s, AX_REG(n, 0));
     s->rate = 0;
     s->carry = 0;
     s->active = s->boost = s->boost_en = 0;

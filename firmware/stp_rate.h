@@ -40,10 +40,10 @@ FW_INLINE void stp_load_rate(stp_t *s, uint32_t t)
 /* The end of a creep phase or a trim: the generator and the down-counter
  * off if they run, the pulse interrupts off and acknowledged (stp_rate.c;
  * once per creep, out of line).  reg: AX_REG(n, 0). */
-void stp_creep_stop(axis_t *x, stp_t *s, uint32_t reg);
+void creep_stop(axis_t *x, stp_t *s, uint32_t reg);
 
 /* stp_edge() with the axis' pointers at hand (the tick's creep path). */
-FW_INLINE int32_t stp_edge_of(const axis_t *x, const stp_t *s, unsigned n, int32_t d)
+FW_INLINE int32_t edge_of(const axis_t *x, const stp_t *s, unsigned n, int32_t d)
 {
     if (stp_conv & (1u << n))
         return stp_scale_call(pos_add(s->inc, d), s->ratio);   /* a creep's start, an index: a call */
@@ -52,24 +52,24 @@ FW_INLINE int32_t stp_edge_of(const axis_t *x, const stp_t *s, unsigned n, int32
 
 /* The position now, re-reading the counter (the tick's reading is from its
  * start); external encoders keep the tick's value. */
-FW_INLINE int32_t stp_meas_now(const axis_t *x, const stp_t *s, unsigned n)
+FW_INLINE int32_t meas_now(const axis_t *x, const stp_t *s, unsigned n)
 {
     if (x->mk != MK_COUNTER)
         return x->meas;
     uint32_t hi = hal_rd16(AX_REG(n, AX_CNT_HI));           /* latches LO */
     uint32_t raw = (hi << 16) | hal_rd16(AX_REG(n, AX_CNT_LO));
     int32_t d = (int32_t)((raw - x->counter) << 8) >> 8;
-    return stp_edge_of(x, s, n, d);
+    return edge_of(x, s, n, d);
 }
 
 /* Tick: the ramp has ended on creep_from, the generator still runs at the
  * ramp's last rate (at most <ssf>): the missing steps into the pulse
  * down-counter at <lv>. */
-FW_INLINE void stp_creep_begin(axis_t *x, stp_t *s, unsigned n, uint32_t reg)
+FW_INLINE void creep_begin(axis_t *x, stp_t *s, unsigned n, uint32_t reg)
 {
     hal_wr16(reg + AX_RATE, 0);                  /* no pulse while we count */
     s->rate = 0;
-    int32_t cur = stp_meas_now(x, s, n);
+    int32_t cur = meas_now(x, s, n);
     int32_t miss = (int32_t)(x->target >> 16) - cur;
     if (s->creep == CREEP_REQ) {
         /* the profile's creep segment is the down-counter's: the setpoint is at its end */
@@ -110,7 +110,7 @@ FW_INLINE void stp_creep_begin(axis_t *x, stp_t *s, unsigned n, uint32_t reg)
  * constants, no call): 1 if the down-counter has the axis this tick
  * (setpoint and following error set), 2 if the setpoint moved under the
  * caller, 0 if nothing. */
-FW_INLINE int stp_creep_tick(axis_t *x, stp_t *s, unsigned n, unsigned phase, int32_t old_i, uint16_t old_f)
+FW_INLINE int creep_tick(axis_t *x, stp_t *s, unsigned n, unsigned phase, int32_t old_i, uint16_t old_f)
 {
     uint32_t reg = AX_REG(n, 0);
     if (s->creep == CREEP_TRIM) {
@@ -118,7 +118,7 @@ FW_INLINE int stp_creep_tick(axis_t *x, stp_t *s, unsigned n, unsigned phase, in
             axis_result_set(x, pos_add(old_i, old_f >= 0x8000u));
             return 1;                            /* the trim's pulses still to come */
         }
-        stp_creep_stop(x, s, reg);               /* done, or the profile moves on */
+        creep_stop(x, s, reg);               /* done, or the profile moves on */
         return 0;
     }
     if (x->mode != M_POSITIONING || x->stop_then) {
@@ -128,12 +128,12 @@ FW_INLINE int stp_creep_tick(axis_t *x, stp_t *s, unsigned n, unsigned phase, in
     if (s->creep == CREEP_REQ && phase != 0)
         return 0;                                /* the ramp's last segment still runs */
     if (s->creep == CREEP_REQ || s->creep == CREEP_WAIT)
-        stp_creep_begin(x, s, n, reg);
+        creep_begin(x, s, n, reg);
     if (s->creep != CREEP_RUN)
         return 2;
     uint16_t left;
     if (s->hw_done || (x->in & AX_IN_PDONE)) {
-        stp_creep_stop(x, s, reg);
+        creep_stop(x, s, reg);
         s->creep = CREEP_DONE;
         left = 0;
     } else if (x->ctrl & AX_CTRL_PULSE_IE) {
@@ -218,7 +218,7 @@ FW_INLINE void stp_rate(axis_t *x, stp_t *s, unsigned n, unsigned phase, int32_t
         stp_rate_on(x, s, n, old_i, old_f, sp_i, sp_f);
         return;
     }
-    int c = stp_creep_tick(x, s, n, phase, old_i, old_f);
+    int c = creep_tick(x, s, n, phase, old_i, old_f);
     if (c == 1)
         return;
     if (c == 2) {                                /* the setpoint moved under us: stand still */
