@@ -166,6 +166,19 @@ FW_INLINE void stp_trim_at(const axis_t *x, stp_t *s, unsigned n)
     s->rate = s->lv_rate;
 }
 
+/* The rate for mag Q16 steps in direction dir (a constant): DIR, and no
+ * remainder, when the direction is new. */
+FW_INLINE void stp_rate_dir(const axis_t *x, stp_t *s, int8_t dir, uint32_t mag)
+{
+    if (dir != s->dir) {
+        s->dir = dir;
+        s->carry = 0;
+        s->obits = (uint16_t)((s->obits & ~AX_CTRL_DIR) | stp_dir_bit(x, dir));
+    }
+    /* |d| <= 0x7FFFFFFF and the carry a 16-bit remainder: the sum cannot wrap */
+    stp_load_rate(s, mag + s->carry);
+}
+
 /* The step rate for the distance from old_i/old_f to sp_i/sp_f, the
  * setpoint and following error (stp_rate below, without the creep phase).
  * Each test has its common case first: GCC lays a then-block out to fall
@@ -185,20 +198,10 @@ FW_INLINE void stp_rate_on(axis_t *x, stp_t *s, unsigned n, int32_t old_i, uint1
     if ((int16_t)old_f < 0)                      /* rounded: a fraction of a half or more */
         sp = pos_add(sp, 1);
     axis_result_set(x, sp);
-    if (d != 0) {
-        int8_t dir = 1;
-        uint32_t mag = (uint32_t)d;
-        if (d < 0) {
-            dir = -1;
-            mag = (uint32_t)-d;
-        }
-        if (dir != s->dir) {                     /* a new direction: DIR, and no remainder */
-            s->dir = dir;
-            s->carry = 0;
-            s->obits = (uint16_t)((s->obits & ~AX_CTRL_DIR) | stp_dir_bit(x, dir));
-        }
-        /* |d| <= 0x7FFFFFFF and the carry a 16-bit remainder: the sum cannot wrap */
-        stp_load_rate(s, mag + s->carry);
+    if (d > 0) {                                 /* each direction with its constant */
+        stp_rate_dir(x, s, 1, (uint32_t)d);
+    } else if (d < 0) {
+        stp_rate_dir(x, s, -1, (uint32_t)-d);
     } else if (x->ferr && !s->rate && !x->prof.vel && !(stp_conv & (1u << n))) {
         stp_trim_at(x, s, n);                    /* stand-still: the step counter must read the setpoint */
     } else {
