@@ -317,7 +317,7 @@ FW_INLINE void brake_split(const axis_t *x, int32_t *i, uint16_t *f)
 {
     uint16_t lo = (uint16_t)x->br_posh;
     uint32_t hi = (uint32_t)(x->br_posh >> 16);
-    if ((int16_t)lo >= 0)                       /* lo < BR_HALF: a test of its top bit */
+    if (lo < BR_HALF)                           /* a borrow: a test, not GCC's subtract-with-extend */
         hi--;
     *i = (int32_t)hi;
     *f = (uint16_t)(lo ^ BR_HALF);
