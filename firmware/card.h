@@ -114,10 +114,10 @@ typedef struct {
         int32_t sp_vel, sp_vel_next;    /* the rows' velocity, Q16 per SP */
     };
     /* STP: the setpoint the tick interpolates in the segment it took: the
-     * tick's (tick_stp.c, stp_rate.c's creep and trim), set again by
+     * tick's (tick_stp.c, stp_rate.h's creep and trim), set again by
      * motion.c's hold and brake_done, masked */
     struct {
-        /* writers: tick_stp.c stp_rate.c motion.c stp_motion.h */
+        /* writers: tick_stp.c stp_rate.h motion.c stp_motion.h */
         int32_t sp_i;       /* setpoint, integer part */
         uint16_t sp_f;      /* and Q16 fraction */
         uint16_t st_f;      /* the segment's step per tick, split the same way */
@@ -319,7 +319,10 @@ FW_INLINE int32_t brake_setpoint(const axis_t *x)
 FW_INLINE void brake_split(const axis_t *x, int32_t *i, uint16_t *f)
 {
     uint16_t lo = (uint16_t)x->br_posh;
-    *i = (int32_t)((uint32_t)(x->br_posh >> 16) - (lo < BR_HALF));
+    uint32_t hi = (uint32_t)(x->br_posh >> 16);
+    if (lo < BR_HALF)                           /* a borrow: a test, not GCC's subtract-with-extend */
+        hi--;
+    *i = (int32_t)hi;
     *f = (uint16_t)(lo ^ BR_HALF);
 }
 

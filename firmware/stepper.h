@@ -157,16 +157,21 @@ FW_INLINE uint16_t stp_dir_bit(const axis_t *x, int8_t dir)
 void stp_init(unsigned n);                    /* INIT: ratio, tolerance, counts */
 extern uint8_t stp_conv;                      /* bit n: axis n counts increments */
 /* tick: increments -> steps (the step count of the increments so far, less
- * that of the tick before) */
+ * that of the tick before), from the encoder's count now (stp_steps_at) or
+ * its motion since the last tick (stp_measured) */
+FW_INLINE int32_t stp_steps_at(stp_t *s, int32_t inc)
+{
+    s->inc = inc;
+    int32_t m = stp_scale(inc, s->ratio);
+    int32_t d = pos_sub(m, s->conv);
+    s->conv = m;
+    return d;
+}
 FW_INLINE int32_t stp_measured(unsigned n, int32_t d)
 {
     stp_t *s = &stp_ax[n];
     PIN_PTR(s);
-    s->inc = pos_add(s->inc, d);                  /* modulo 2^32, as the positions */
-    int32_t m = stp_scale(s->inc, s->ratio);
-    d = pos_sub(m, s->conv);
-    s->conv = m;
-    return d;
+    return stp_steps_at(s, pos_add(s->inc, d));   /* modulo 2^32, as the positions */
 }
 /* The STP measures in steps: encoder increments through <ms>/(4 <es>); the
  * step counter itself follows DIR, which USR turns round (4.4.2.3, 4.2). */
@@ -190,9 +195,17 @@ int32_t stp_counts(unsigned n);               /* the same, out of line */
  * the tick takes it per axis with its pointers and registers constants. */
 FW_INLINE void stp_measure_ext(axis_t *x, meas_cfg_t *c, unsigned n)
 {
+    PIN_PTR(c);                                   /* its fields at d16(An), not absolute addresses */
     uint32_t raw;
     if (measure_ext_checked(x, c, n, &raw))
         return;
+    if (c->abs && (stp_conv & (1u << n))) {       /* absolute, in increments: the reading is the count */
+        stp_t *s = &stp_ax[n];
+        PIN_PTR(s);
+        measure_raw_take(x, raw);
+        measure_apply(x, stp_steps_at(s, (int32_t)raw));
+        return;
+    }
     /* absolute: the reading against the counter in its increments */
     int32_t d = c->abs ? (int32_t)(raw - (uint32_t)stp_counts_at(x, &stp_ax[n], n)) : measure_delta(x, c, raw);
     measure_raw_take(x, raw);

@@ -56,6 +56,18 @@ FW_INLINE void stp_take_segment(unsigned n)
         card_profile_late++;
 }
 
+/* The setpoint a step per tick on from b + bf (the segment's start, or the
+ * last tick's setpoint). */
+FW_INLINE void stp_step(const axis_t *x, int32_t b, uint16_t bf, int32_t *i, uint16_t *f)
+{
+    uint16_t nf = (uint16_t)(bf + x->st_f);
+    int32_t ni = pos_add(b, x->st_i);
+    if (nf < bf)                                 /* the fraction's carry */
+        ni = pos_add(ni, 1);
+    *i = ni;
+    *f = nf;
+}
+
 /* One axis of the STP tick after its measurement: the setpoint, the step
  * rate (stepper.h stp_rate), the outputs.  One body, instantiated with a
  * constant path (STP_PATH_*, the axis' stp_path) so that neither the mode
@@ -77,6 +89,8 @@ FW_INLINE void stp_axis(unsigned n, unsigned phase, unsigned path)
      * bits; the segment's start and end are taken exactly from the profile. */
     int32_t old_i = x->sp_i;
     uint16_t old_f = x->sp_f;
+    int32_t i;
+    uint16_t f;
     if (path == STP_PATH_BRAKE) {                /* a stop that cannot wait for the next SP */
         int32_t v = brake_slower(x), ssf = x->br_ssf;
         if (v <= ssf && v >= -ssf) {
@@ -86,26 +100,18 @@ FW_INLINE void stp_axis(unsigned n, unsigned phase, unsigned path)
             v = w > ssf ? ssf : w < -ssf ? -ssf : 0;
         }
         brake_step(x, v);
-        int32_t i;
-        uint16_t f;
         brake_split(x, &i, &f);                  /* into locals: they alias nothing */
-        x->sp_i = i;
-        x->sp_f = f;
-    } else if (phase == 3) {
-        x->sp_i = x->end_i;
-        x->sp_f = x->end_f;
+    } else if (phase == 0) {                     /* the SP boundary's, the longest tick, first */
+        stp_step(x, x->start_i, x->start_f, &i, &f);
+    } else if (phase != 3) {
+        stp_step(x, old_i, old_f, &i, &f);
     } else {
-        int32_t i = old_i;
-        uint16_t f = old_f;
-        if (phase == 0) {
-            i = x->start_i;
-            f = x->start_f;
-        }
-        uint32_t t = (uint32_t)f + x->st_f;
-        x->sp_i = pos_add(pos_add(i, x->st_i), (int32_t)(t >> 16));
-        x->sp_f = (uint16_t)t;
+        i = x->end_i;
+        f = x->end_f;
     }
-    stp_rate(x, s, n, phase, old_i, old_f);      /* step rate, creep phase, setpoint, RFE */
+    x->sp_i = i;
+    x->sp_f = f;
+    stp_rate(x, s, n, phase, old_i, old_f, i, f);    /* step rate, creep phase, RFE */
     /* the outputs of a running axis (tick.h axis_output_at, stp_output):
      * /EN, DIR, BOOST, TURBO and the rate the rate stage prepared */
     uint16_t ctrl = (uint16_t)((x->ctrl & ~(AX_CTRL_EN | STP_OBITS)) | AX_CTRL_EN | s->obits);
