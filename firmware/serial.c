@@ -104,9 +104,11 @@ static void stat_add(unsigned i, uint32_t n) { stat_set(i, stats[i] + n); }
 /* Two of the eight per tick, all of them every profile period. */
 void serial_publish(unsigned phase)
 {
-    unsigned i = 2u * (phase & 3u);
-    hal_wr32(DPC_SERIAL_RX_OK + 4u * i, stats[i]);
-    hal_wr32(DPC_SERIAL_RX_OK + 4u * (i + 1u), stats[i + 1u]);
+    unsigned q = phase & 3u;
+    const uint32_t *s = &stats[2u * q];
+    uint32_t d = DPC_SERIAL_RX_OK + 8u * q;
+    hal_wr32(d, s[0]);
+    hal_wr32(d + 4u, s[1]);
 }
 
 void serial_reset(void)
