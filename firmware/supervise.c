@@ -66,7 +66,7 @@ FW_INLINE void axis_inputs(unsigned n)
         return;
     x->in = in;
     axis_inputs_enc(x, in);                       /* SSI: J1's Gray code status, from basic init on */
-    if (!axis_initialised(n)) {
+    if (!(x->ustat & UB(INIT))) {                 /* axis_initialised, through x: one BTST */
         axis_inputs_evaluated(x, 0);              /* axis.h */
         return;                                   /* switches count after INIT (4.9) */
     }
