@@ -208,9 +208,9 @@ static __attribute__((noinline)) void execute_slow(const mac4_msg_t *in, mac4_ms
 }
 
 /* What every command does first, a read or not: <wd> counts from it (4.7). */
-FW_INLINE void command_begins(unsigned a)
+FW_INLINE void command_begins(unsigned a, int32_t wd)
 {
-    if (PAR(0, WD) > 0)
+    if (wd > 0)
         cmd_wd_last_us = now_us();                    /* otherwise WWD sets it (write_param) */
     wd_fired = 0;
     if (a < MAC4_NAXES)
@@ -223,7 +223,7 @@ void cmd_execute(const mac4_msg_t *in, mac4_msg_t *out)
     out->axis = in->axis;
     out->source = in->source;
     out->code = in->code;
-    command_begins(a);
+    command_begins(a, PAR(0, WD));
     if (a < MAC4_NAXES) {
         /* the common case first: a read */
         cmd_t c = cmd_of(in->code);
@@ -318,9 +318,8 @@ static __attribute__((noinline)) void watchdog_fire(void)
     hal_irq_restore(prev);
 }
 
-static void watchdog_check(void)
+static void watchdog_check(int32_t wd)
 {
-    int32_t wd = PAR(0, WD);
     if (wd <= 0 || wd_fired)
         return;
     uint32_t elapsed = now_us() - cmd_wd_last_us;
@@ -364,10 +363,10 @@ static __attribute__((noinline)) void dispatch(const mac4_msg_t *in)
 /* The VME host's reads (RBS, RCP, RFE, ROUT, ...: the common command):
  * straight from the queue element to the response element, the kind and
  * the field from the table, the same steps as execute_and_respond's. */
-FW_INLINE void vme_read(unsigned a, uint16_t code, cmd_t c)
+FW_INLINE void vme_read(unsigned a, uint16_t code, cmd_t c, int32_t wd)
 {
     uint16_t prev = mask_supervised();
-    command_begins(a);
+    command_begins(a, wd);
     uint32_t v = read_value(c, a);
     hal_irq_restore(prev);
     cmd_done();
@@ -375,7 +374,7 @@ FW_INLINE void vme_read(unsigned a, uint16_t code, cmd_t c)
 }
 
 /* The VME command at the rear of the queue (its header checked, not empty). */
-FW_INLINE void vme_command(uint32_t rear)
+FW_INLINE void vme_command(uint32_t rear, int32_t wd)
 {
     uint32_t e = DP_CMD_QUEUE + q_elem_off(rear);
     IN_ADDR_REG(e);
@@ -385,7 +384,7 @@ FW_INLINE void vme_command(uint32_t rear)
     /* a read of a valid axis never waits (off-fly) and needs no parameter */
     if (a < MAC4_NAXES && kind_is_read(c.kind) && !irq1_on) {
         q_rear_on(DP_CMD_QUEUE, rear);
-        vme_read(a, code, c);
+        vme_read(a, code, c, wd);
         return;
     }
     mac4_msg_t in;
@@ -418,7 +417,9 @@ static __attribute__((noinline)) void serial_command(void)
 void cmd_poll(void)
 {
     serial_poll();
-    watchdog_check();
+    /* <wd> as this pass found it: no command before the VME read changes it */
+    int32_t wd = PAR(0, WD);
+    watchdog_check(wd);
     if (cmd_mr)
         return;             /* the watchdog resets the card soon */
     if (cmd_n_held) {
@@ -438,7 +439,7 @@ void cmd_poll(void)
          * pair its old front with its new rear (docs/interpretations.md). */
         queue_bad = 0;
     } else if (front != rear) {
-        vme_command(rear);
+        vme_command(rear, wd);
     }
     if (serial_pending() && !cmd_mr && cmd_n_held < CMD_HOLD_MAX)
         serial_command();
