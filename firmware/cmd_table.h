@@ -20,10 +20,11 @@
 
 /* ---- the command table -------------------------------------------------- */
 /* The kinds of command; reads last: kind >= CK_READ_ is a read.  The
- * diagnosis (cmd.c's table): worked out (CK_DIAG, cmd_read.c), the card's
- * own stages' (CK_CARD, cmd_read_card), a 32-bit field of axis_t (CK_FIELD)
- * or a signed 16-bit one (CK_FIELD16): arg is the field's offset. */
-enum { CK_NONE, CK_GEN_, CK_MODE, CK_WPAR, CK_READ_, CK_RPAR, CK_DIAG, CK_CARD, CK_FIELD, CK_FIELD16 };
+ * diagnosis (cmd.c's table): worked out (CK_DIAG, cmd_read.c), a 32-bit
+ * field of axis_t (CK_FIELD) or a signed 16-bit one (CK_FIELD16): arg is
+ * the field's offset; or the card's own stages' (CK_CARD, cmd_read_card).
+ * The values up to CK_FIELD are the floor's too (bench/floor/floor.h). */
+enum { CK_NONE, CK_GEN_, CK_MODE, CK_WPAR, CK_READ_, CK_RPAR, CK_DIAG, CK_FIELD, CK_FIELD16, CK_CARD };
 #define CK_GEN CK_GEN_
 #define CK_READ CK_READ_
 
