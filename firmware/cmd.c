@@ -40,12 +40,16 @@ _Static_assert(NCMDS <= 256 && NPARAMS <= 256, "cmd_t.arg is a byte");
  * initialiser: -Woverride-init (-Wextra) makes that a compile error.
  * (cmd_t: cmd_table.h) */
 
-/* How each diagnosis value is read: a 32-bit field of axis_t (CK_FIELD and
- * its offset: one move), or computed by cmd_read_value() (CK_DIAG, cmd_read.c). */
+/* How each diagnosis value is read: a field of axis_t (CK_FIELD, 32 bits,
+ * or CK_FIELD16, a signed word, and its offset: one move), from the card's
+ * own stages (CK_CARD, cmd_read_card), or computed by cmd_read_value()
+ * (CK_DIAG, cmd_read.c). */
 #define DIAG_FIELD(f) CK_FIELD, offsetof(axis_t, f)
 #define DIAG_RCP  DIAG_FIELD(pos)
-#define DIAG_RCPI CK_DIAG, CI_RCPI          /* STP only: encoder increments since INIT */
-#define DIAG_ROUT CK_DIAG, CI_ROUT          /* the DAC word; STP: Steps/SP (table 6.2) */
+#define DIAG_RCPI CK_CARD, CI_RCPI          /* STP only: encoder increments since INIT */
+/* the DAC word the output stage wrote; STP: Steps/SP (table 6.2), from the rate */
+#define DIAG_ROUT CARDSEL(CK_FIELD16, CK_FIELD16, CK_CARD), \
+                  CARDSEL(offsetof(axis_t, out), offsetof(axis_t, out), CI_ROUT)
 #define DIAG_RCT  DIAG_FIELD(counter)
 #define DIAG_RED  DIAG_FIELD(raw)
 #define DIAG_RFE  DIAG_FIELD(ferr)
@@ -54,7 +58,8 @@ _Static_assert(NCMDS <= 256 && NPARAMS <= 256, "cmd_t.arg is a byte");
 #define DIAG_RAS  CK_DIAG, CI_RAS           /* card-wide */
 #define DIAG_RBS  DIAG_FIELD(ustat)
 #define DIAG_RSS  DIAG_FIELD(sstat)
-_Static_assert(offsetof(axis_t, ferr) < 256 && offsetof(axis_t, vel) < 256, "CK_FIELD offsets are bytes");
+_Static_assert(offsetof(axis_t, ferr) < 256 && offsetof(axis_t, vel) < 256 && offsetof(axis_t, out) < 256,
+               "CK_FIELD offsets are bytes");
 
 #define CMD_ON(cards, kind, arg) {ON_THIS_CARD(cards) ? (kind) : CK_NONE, (arg)}
 #define CMD_ON_(...) CMD_ON(__VA_ARGS__)
@@ -83,9 +88,10 @@ static uint8_t last_valid_axis; /* for interrupt 2 of a false axis number (6.3.1
 uint8_t cmd_mr;                 /* MR accepted: stop retriggering the watchdog (cmd.h) */
 uint32_t cmd_wd_last_us;        /* time of the last command, for <wd> (cmd_table.h) */
 static uint8_t wd_fired;
-/* Bit 0: some axis has an interrupt-1 vector, bit 1: an interrupt-2 vector
- * (4.6; both 0 by default): the command path looks a vector up only then. */
-static uint8_t irq12;
+/* Some axis has an interrupt-1 vector, an interrupt-2 vector (4.6; both 0
+ * by default): the command path looks a vector up only then.  A byte each,
+ * one TST. */
+static uint8_t irq1_on, irq2_on;
 /* Diagnostic counts, kept here and published to the card data block at
  * every change and every tick (cmd_publish): a host write to the DPRAM
  * cannot corrupt them. */
@@ -100,14 +106,15 @@ void cmd_publish(void)
 
 void cmd_irq12_update(void)
 {
-    uint8_t f = 0;
+    uint8_t f1 = 0, f2 = 0;
     for (unsigned n = 0; n < MAC4_NAXES; n++) {
         if (PAR(n, IRQ1))
-            f |= 1u;
+            f1 = 1;
         if (PAR(n, IRQ2))
-            f |= 2u;
+            f2 = 1;
     }
-    irq12 = f;
+    irq1_on = f1;
+    irq2_on = f2;
 }
 
 void cmd_reset(void)
@@ -138,6 +145,21 @@ static int is_card_error(uint16_t code)
     return code == ERR_AXIS || code == ERR_WATCHDOG || code == ERR_HSTOP;
 }
 
+/* A read's value (6.3: executed even with an error waiting): a field of
+ * the axis in one move, the card's stages' (ROUT, the STP's RCPI), or
+ * worked out (cmd_read.c). */
+FW_INLINE uint32_t read_value(cmd_t c, unsigned a)
+{
+    const uint8_t *x = (const uint8_t *)axis_at[a];
+    if (c.kind == CK_FIELD)
+        return *(const uint32_t *)(const void *)(x + c.arg);
+    if (c.kind == CK_FIELD16)
+        return (uint32_t)(int32_t)*(const int16_t *)(const void *)(x + c.arg);
+    if (c.kind == CK_CARD)
+        return cmd_read_card(c.arg, a);
+    return cmd_read_value(c.kind, c.arg, a);
+}
+
 /* Everything but a read without an error to report: the checks in the
  * order of the file's head comment. */
 static __attribute__((noinline)) void execute_slow(const mac4_msg_t *in, mac4_msg_t *out)
@@ -156,7 +178,7 @@ static __attribute__((noinline)) void execute_slow(const mac4_msg_t *in, mac4_ms
     if (c.kind == CK_NONE) {
         err = ERR_SYNTAX;
     } else if (kind_is_read(c.kind)) {
-        out->param = cmd_read_value(c, a);            /* 6.3: reads are always executed */
+        out->param = read_value(c, a);                /* 6.3: reads are always executed */
         return;
     } else if (card_err_report || x->err_report) {
         /* 6.3.4-6.3.6: "the error message is given as the response to the
@@ -186,22 +208,13 @@ static __attribute__((noinline)) void execute_slow(const mac4_msg_t *in, mac4_ms
 }
 
 /* What every command does first, a read or not: <wd> counts from it (4.7). */
-FW_INLINE void command_begins(unsigned a)
+FW_INLINE void command_begins(unsigned a, int32_t wd)
 {
-    if (PAR(0, WD) > 0)
+    if (wd > 0)
         cmd_wd_last_us = now_us();                    /* otherwise WWD sets it (write_param) */
     wd_fired = 0;
     if (a < MAC4_NAXES)
         last_valid_axis = (uint8_t)a;
-}
-
-/* A read's value (6.3: executed even with an error waiting): a field of
- * the axis in one move, or worked out (cmd_read.c). */
-FW_INLINE uint32_t read_value(cmd_t c, unsigned a)
-{
-    if (c.kind == CK_FIELD)
-        return *(const uint32_t *)(const void *)((const uint8_t *)axis_at[a] + c.arg);
-    return cmd_read_value(c, a);
 }
 
 void cmd_execute(const mac4_msg_t *in, mac4_msg_t *out)
@@ -210,7 +223,7 @@ void cmd_execute(const mac4_msg_t *in, mac4_msg_t *out)
     out->axis = in->axis;
     out->source = in->source;
     out->code = in->code;
-    command_begins(a);
+    command_begins(a, PAR(0, WD));
     if (a < MAC4_NAXES) {
         /* the common case first: a read */
         cmd_t c = cmd_of(in->code);
@@ -228,14 +241,21 @@ void cmd_execute(const mac4_msg_t *in, mac4_msg_t *out)
  * supervise - the supervision itself runs unmasked (it masks per axis), so
  * the mask holds off the next tick for the command alone.  The mask to
  * restore after the command. */
-FW_INLINE uint16_t mask_supervised(void)
+static __attribute__((noinline)) uint16_t supervise_then_mask(uint16_t prev)
 {
-    uint16_t prev = (uint16_t)hal_irq_save();
-    while (card_supervise_due()) {
+    do {
         hal_irq_restore(prev);
         card_supervise_tick();
         prev = (uint16_t)hal_irq_save();
-    }
+    } while (card_supervise_due());
+    return prev;
+}
+
+FW_INLINE uint16_t mask_supervised(void)
+{
+    uint16_t prev = (uint16_t)hal_irq_save();
+    if (card_supervise_due())
+        prev = supervise_then_mask(prev);   /* out of line: the rare case */
     return prev;
 }
 
@@ -258,7 +278,7 @@ FW_INLINE void respond_vme(uint8_t axis, uint16_t code, uint32_t param)
         hal_wr32(DPC_RSP_LOST, ++n_rsp_lost);
         return;
     }
-    if (irq12 & 2u) {
+    if (irq2_on) {
         unsigned a = axis < MAC4_NAXES ? axis : last_valid_axis;
         uint8_t v = (uint8_t)PAR(a, IRQ2);
         if (v)
@@ -298,9 +318,8 @@ static __attribute__((noinline)) void watchdog_fire(void)
     hal_irq_restore(prev);
 }
 
-static void watchdog_check(void)
+static void watchdog_check(int32_t wd)
 {
-    int32_t wd = PAR(0, WD);
     if (wd <= 0 || wd_fired)
         return;
     uint32_t elapsed = now_us() - cmd_wd_last_us;
@@ -344,10 +363,10 @@ static __attribute__((noinline)) void dispatch(const mac4_msg_t *in)
 /* The VME host's reads (RBS, RCP, RFE, ROUT, ...: the common command):
  * straight from the queue element to the response element, the kind and
  * the field from the table, the same steps as execute_and_respond's. */
-FW_INLINE void vme_read(unsigned a, uint16_t code, cmd_t c)
+FW_INLINE void vme_read(unsigned a, uint16_t code, cmd_t c, int32_t wd)
 {
     uint16_t prev = mask_supervised();
-    command_begins(a);
+    command_begins(a, wd);
     uint32_t v = read_value(c, a);
     hal_irq_restore(prev);
     cmd_done();
@@ -355,7 +374,7 @@ FW_INLINE void vme_read(unsigned a, uint16_t code, cmd_t c)
 }
 
 /* The VME command at the rear of the queue (its header checked, not empty). */
-FW_INLINE void vme_command(uint32_t rear)
+FW_INLINE void vme_command(uint32_t rear, int32_t wd)
 {
     uint32_t e = DP_CMD_QUEUE + q_elem_off(rear);
     IN_ADDR_REG(e);
@@ -363,9 +382,9 @@ FW_INLINE void vme_command(uint32_t rear)
     uint16_t code = hal_rd16(e + MSG_CODE);
     cmd_t c = cmd_of(code);
     /* a read of a valid axis never waits (off-fly) and needs no parameter */
-    if (a < MAC4_NAXES && kind_is_read(c.kind) && !(irq12 & 1u)) {
+    if (a < MAC4_NAXES && kind_is_read(c.kind) && !irq1_on) {
         q_rear_on(DP_CMD_QUEUE, rear);
-        vme_read(a, code, c);
+        vme_read(a, code, c, wd);
         return;
     }
     mac4_msg_t in;
@@ -375,7 +394,7 @@ FW_INLINE void vme_command(uint32_t rear)
     q_rear_on(DP_CMD_QUEUE, rear);
     in.source = MSG_SRC_VME;                /* a VME command is answered on the VMEbus */
     /* interrupt 1: a command was read from the VME queue (4.6) */
-    if ((irq12 & 1u) && a < MAC4_NAXES) {
+    if (irq1_on && a < MAC4_NAXES) {
         uint8_t v = (uint8_t)PAR(a, IRQ1);
         if (v)
             vme_irq(v);
@@ -398,7 +417,9 @@ static __attribute__((noinline)) void serial_command(void)
 void cmd_poll(void)
 {
     serial_poll();
-    watchdog_check();
+    /* <wd> as this pass found it: no command before the VME read changes it */
+    int32_t wd = PAR(0, WD);
+    watchdog_check(wd);
     if (cmd_mr)
         return;             /* the watchdog resets the card soon */
     if (cmd_n_held) {
@@ -418,7 +439,7 @@ void cmd_poll(void)
          * pair its old front with its new rear (docs/interpretations.md). */
         queue_bad = 0;
     } else if (front != rear) {
-        vme_command(rear);
+        vme_command(rear, wd);
     }
     if (serial_pending() && !cmd_mr && cmd_n_held < CMD_HOLD_MAX)
         serial_command();

@@ -19,8 +19,12 @@
 #include "cmd_mask.h"
 
 /* ---- the command table -------------------------------------------------- */
-/* The kinds of command; reads last: kind >= CK_READ_ is a read. */
-enum { CK_NONE, CK_GEN_, CK_MODE, CK_WPAR, CK_READ_, CK_RPAR, CK_DIAG, CK_FIELD };
+/* The kinds of command; reads last: kind >= CK_READ_ is a read.  The
+ * diagnosis (cmd.c's table): worked out (CK_DIAG, cmd_read.c), a 32-bit
+ * field of axis_t (CK_FIELD) or a signed 16-bit one (CK_FIELD16): arg is
+ * the field's offset; or the card's own stages' (CK_CARD, cmd_read_card).
+ * The values up to CK_FIELD are the floor's too (bench/floor/floor.h). */
+enum { CK_NONE, CK_GEN_, CK_MODE, CK_WPAR, CK_READ_, CK_RPAR, CK_DIAG, CK_FIELD, CK_FIELD16, CK_CARD };
 #define CK_GEN CK_GEN_
 #define CK_READ CK_READ_
 
@@ -85,8 +89,10 @@ int cmd_target_ok(unsigned a, int32_t t);
 /* cmd_general.c: everything but the reads - C, and the commands that need
  * every error acknowledged first (6.3.7) */
 uint16_t cmd_execute_other(cmd_t c, unsigned a, uint32_t param);
-/* cmd_read.c: the value of a read (kind_is_read) */
-uint32_t cmd_read_value(cmd_t c, unsigned a);
+/* cmd_read.c: the value of a read (kind_is_read) that is not a field or
+ * the card's (cmd.c): the entry's kind and arg as two arguments, which the
+ * caller need not pack into a cmd_t */
+uint32_t cmd_read_value(unsigned kind, unsigned arg, unsigned a);
 /* per card, servo_meas.c (INC, SSI) or stp_meas.c (STP): the diagnosis
  * values read from the card's own stages, ROUT and the STP's RCPI (ci) */
 uint32_t cmd_read_card(unsigned ci, unsigned a);

@@ -87,7 +87,8 @@ volatile uint8_t serial_rx_work;
 /* Statistics, mirrored into the card data block (DPC_SERIAL_*). */
 enum { ST_RX_OK, ST_NAKS, ST_GARBAGE, ST_OVERRUNS, ST_FRAMING, ST_CMD_LOST, ST_TX_OK, ST_TX_LOST,
        ST_COUNT };
-static uint32_t stats[ST_COUNT];
+uint32_t serial_stats[SERIAL_N_STATS];          /* serial.h: written here only */
+_Static_assert(ST_COUNT == SERIAL_N_STATS, "serial.h counts the statistics");
 static uint16_t seen_overruns, seen_framing;
 
 #define RX_MASK (SERIAL_RX_SIZE - 1u)
@@ -95,19 +96,11 @@ static uint16_t seen_overruns, seen_framing;
 
 static void stat_set(unsigned i, uint32_t v)
 {
-    stats[i] = v;
+    serial_stats[i] = v;
     hal_wr32(DPC_SERIAL_RX_OK + 4u * i, v);
 }
 
-static void stat_add(unsigned i, uint32_t n) { stat_set(i, stats[i] + n); }
-
-/* Two of the eight per tick, all of them every profile period. */
-void serial_publish(unsigned phase)
-{
-    unsigned i = 2u * (phase & 3u);
-    hal_wr32(DPC_SERIAL_RX_OK + 4u * i, stats[i]);
-    hal_wr32(DPC_SERIAL_RX_OK + 4u * (i + 1u), stats[i + 1u]);
-}
+static void stat_add(unsigned i, uint32_t n) { stat_set(i, serial_stats[i] + n); }
 
 void serial_reset(void)
 {
@@ -243,7 +236,7 @@ static __attribute__((noinline)) void take_bytes(void)
         event(serial_dec_step(&dec, b, &m), &m);
     }
     last_rx_us = now_us();
-    if (dec.garbage != stats[ST_GARBAGE])
+    if (dec.garbage != serial_stats[ST_GARBAGE])
         stat_set(ST_GARBAGE, dec.garbage);
 }
 
@@ -256,7 +249,7 @@ void serial_poll_work(void)
     } else if (dec.state != SERIAL_DS_HUNT && (uint32_t)(now_us() - last_rx_us) > SERIAL_TIMEOUT_US) {
         mac4_msg_t m;           /* (no message from a timeout) */
         event(serial_dec_timeout(&dec), &m);
-        if (dec.garbage != stats[ST_GARBAGE])
+        if (dec.garbage != serial_stats[ST_GARBAGE])
             stat_set(ST_GARBAGE, dec.garbage);
     }
     if (dec.state != SERIAL_DS_HUNT)

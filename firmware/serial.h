@@ -14,6 +14,7 @@
  */
 #ifndef SERIAL_H
 #define SERIAL_H
+#include "inline.h"
 #include <stdint.h>
 #include "queue.h"
 
@@ -32,7 +33,19 @@ int serial_get(mac4_msg_t *m);          /* next decoded command (source 1): 1, o
 extern uint8_t serial_fifo_count;
 static inline int serial_pending(void) { return serial_fifo_count != 0; }   /* serial_get would give one */
 void serial_send(const mac4_msg_t *m);  /* a response as a telegram */
-void serial_publish(unsigned phase);    /* statistics to the card data block, a quarter per phase */
+/* The statistics, mirrored into the card data block (DPC_SERIAL_*):
+ * serial.c's alone; inline here for the supervision after each tick, which
+ * publishes two of the eight per tick, all of them every profile period. */
+#define SERIAL_N_STATS 8u
+extern uint32_t serial_stats[SERIAL_N_STATS];
+FW_INLINE void serial_publish(unsigned phase)
+{
+    unsigned q = phase & 3u;
+    const uint32_t *s = &serial_stats[2u * q];
+    uint32_t d = DPC_SERIAL_RX_OK + 8u * q;
+    hal_wr32(d, s[0]);
+    hal_wr32(d + 4u, s[1]);
+}
 /* fw_isr_uart() (fw.h) is the level 4 interrupt: RX into the ring, TX out of it. */
 
 /* ---- protocol constants ------------------------------------------------- */

@@ -65,10 +65,11 @@ FW_INLINE void axis_inputs(unsigned n)
     if (in == x->in && !x->in_eval)
         return;
     x->in = in;
-    axis_inputs_evaluated(x, 0);                  /* axis.h */
     axis_inputs_enc(x, in);                       /* SSI: J1's Gray code status, from basic init on */
-    if (!axis_initialised(n))
+    if (!(x->ustat & UB(INIT))) {                 /* axis_initialised, through x: one BTST */
+        axis_inputs_evaluated(x, 0);              /* axis.h */
         return;                                   /* switches count after INIT (4.9) */
+    }
     uint16_t active = (uint16_t)((in ^ x->sw_inv) & x->sw_en);
     axis_inputs_evaluated(x, (active & AX_IN_DF) != 0);   /* a drive fault: again next time */
     uint32_t sw = sw_ustat[active & 7u];
@@ -86,7 +87,10 @@ FW_INLINE void axis_inputs(unsigned n)
         axis_disable(n);
 }
 
-static void publish(unsigned n)
+/* One axis' DPRAM data: inlined per axis with a constant n (absolute
+ * addresses; from an address in a register GCC would add each word's
+ * offset to it in a LEA of its own). */
+FW_INLINE void publish_axis(unsigned n)
 {
     const axis_t *x = &axes[n];
     uint32_t d = DP_AXIS_DATA(n);
@@ -103,25 +107,49 @@ static void publish(unsigned n)
     hal_wr32(d + DPA_RAW, x->raw);
 }
 
+static void publish(unsigned n)
+{
+    switch (n) {
+    case 0: publish_axis(0); break;
+    case 1: publish_axis(1); break;
+    case 2: publish_axis(2); break;
+    default: publish_axis(3); break;
+    }
+}
+
 /* The LEDs the firmware drives (2.5.3; the limit and reference LEDs follow
  * the input levels in hardware): D disabled, P pos_end, F the drive fault
  * signal as the card recognises it with the polarity <df> in force (UWSO),
  * whatever its level; on the STP F also shows an unacknowledged error
  * (7.1.2 led_fault). */
+/* One axis' LEDs into l: inlined four times with a constant n (absolute
+ * addresses, the bits immediate). */
+FW_INLINE uint16_t axis_leds(uint16_t l, unsigned n)
+{
+    const axis_t *x = &axes[n];
+    if (x->mode == M_DISABLE)
+        l |= (uint16_t)(SYS_LED_D << SYS_LED_SHIFT(n));
+    if (x->ustat & UB(POS_END))
+        l |= (uint16_t)(SYS_LED_P << SYS_LED_SHIFT(n));
+    int32_t df = PAR(n, DF);
+    uint16_t df_on = 0;
+    if (df != 0) {
+        df_on = hal_rd16(AX_REG(n, AX_IN)) & AX_IN_DF;
+        if (df == 2)
+            df_on ^= AX_IN_DF;                    /* <df> 2: the signal high active */
+    }
+    if (df_on || card_led_fault(x))
+        l |= (uint16_t)(SYS_LED_F << SYS_LED_SHIFT(n));
+    return l;
+}
+
 static void leds(void)
 {
     uint16_t l = 0;
-    for (unsigned n = 0; n < MAC4_NAXES; n++) {
-        const axis_t *x = &axes[n];
-        if (x->mode == M_DISABLE)
-            l |= (uint16_t)(SYS_LED_D << SYS_LED_SHIFT(n));
-        if (x->ustat & UB(POS_END))
-            l |= (uint16_t)(SYS_LED_P << SYS_LED_SHIFT(n));
-        int32_t df = PAR(n, DF);
-        int df_on = df != 0 && (((hal_rd16(AX_REG(n, AX_IN)) & AX_IN_DF) != 0) ^ (df == 2));
-        if (df_on || card_led_fault(x))
-            l |= (uint16_t)(SYS_LED_F << SYS_LED_SHIFT(n));
-    }
+    l = axis_leds(l, 0);
+    l = axis_leds(l, 1);
+    l = axis_leds(l, 2);
+    l = axis_leds(l, 3);
     hal_wr16(SYS_LEDS, l);
 }
 

@@ -67,6 +67,7 @@ def test_batch_session(card):
     lines, g = debug(card, "run 800\nstatus\n", [
         "break fw_isr_tick",
         "continue",
+        "monitor time",     # at the breakpoint, as the second: one period apart, not less the `next`
         "bt",
         "info registers",
         "print/x $pc",
@@ -77,7 +78,6 @@ def test_batch_session(card):
         "print card_ticks",
         "set var card_ticks = 1000",
         "print card_ticks + 0",
-        "monitor time",
         "continue",
         "print card_ticks",
         "monitor time",
