@@ -12,6 +12,9 @@
 #define OPT_SPECIFY_HANDLER 2
 
 #define M68K_COMPILE_FOR_MAME       OPT_OFF
+/* The core is a 68000 and nothing else (our patch 0010): constant address
+ * mask and cycle table.  The stock core knows no such option. */
+#define M68K_ONLY_68000             OPT_ON
 #define M68K_EMULATE_010            OPT_OFF
 #define M68K_EMULATE_EC020          OPT_OFF
 #define M68K_EMULATE_020            OPT_OFF
