@@ -6,6 +6,8 @@
  * not expect (vector fetches that are not interrupt acknowledges) and
  * illegal opcodes.
  */
+#include <stdio.h>
+#include <stdlib.h>
 #include "m68k.h"
 #include "m68kcpu.h"
 #include "cpu.h"
@@ -21,10 +23,19 @@ static int in_slice;        /* m68k_cycles_run() is only meaningful inside m68k_
 static cyc_t slice_done;    /* cycles of the slice before a gdb stop (gdbstub.c) */
 
 unsigned mac4_hook_lo = 1, mac4_hook_span;   /* musashi_cnf.h: PC 1 alone, as mac4_idle_pc */
+extern int m68k_fast_hook_loop;   /* our patch 0011 (m68kcpu.h; MAC4_IDLE_HOOK is the core's alone) */
 
 void mac4_hooks_update(void)
 {
-    if (mac4_gdb_on || mac4_profiling) {
+    /* --no-fast: every instruction through the full hook, as before the
+     * fast loop (our patch 0011) */
+    if (mac4_gdb_on || mac4_profiling || !mac4_fast) {
+        /* Musashi's fast loop sees no hook turned on in it but from the idle
+         * skip's callback, which clears the flag */
+        if (m68k_fast_hook_loop) {
+            fprintf(stderr, "mac4sim: instruction hook turned on inside a slice outside the idle hook\n");
+            abort();
+        }
         mac4_hook_lo = 0;
         mac4_hook_span = ~0u;
     } else {
@@ -482,6 +493,7 @@ static void m68k_cpu_attach(void)
     m68k_init();
     m68k_set_cpu_type(M68K_CPU_TYPE_68000);
     buswait_init();
+    mac4_hooks_update();    /* mac4_fast is known now */
 }
 
 static void m68k_reset_wrapper(sim_t *s)

@@ -71,6 +71,13 @@ void mac4_idle_instr(unsigned pc);
 extern unsigned mac4_hook_lo, mac4_hook_span;
 void mac4_hooks_update(void);
 #ifdef MAC4_IDLE_HOOK
+/* Our patch 0011: while neither gdb nor the profiler is on (mac4_hook_span
+ * 0), m68k_execute's fast loop compares each PC with the idle skip's one
+ * (mac4_hook_lo) and nothing else; mac4_hooks_update refuses to turn the
+ * full hook on inside that loop other than from this callback. */
+#define M68K_FAST_HOOK_PC           mac4_hook_lo
+#define M68K_FAST_HOOK_OFF          (mac4_hook_span != 0)
+#define M68K_FAST_HOOK_CALLBACK(pc) do { if ((pc) == mac4_idle_pc) mac4_idle_instr(pc); } while (0)
 #define M68K_INSTRUCTION_CALLBACK(pc) \
     if (__builtin_expect((unsigned)(pc) - mac4_hook_lo <= mac4_hook_span, 0)) { \
         if (mac4_gdb_on && mac4_gdb_instr(pc)) break; else if (mac4_profiling) mac4_profile_instr(pc); \
