@@ -77,6 +77,7 @@ typedef struct {
     double x0, v0, x1, v1;     /* servo: motor rev, rad/s; stepper: rotor steps, steps/s */
     double in_u;               /* inputs the current step was computed with */
     int in_en, in_boost;
+    uint64_t in_key;           /* servo: the raw inputs in_u, in_en, in_boost come from (plant.c inputs_key) */
     uint64_t t_sync;           /* the models are up to date until here */
     /* stepper */
     int sync;                  /* the rotor follows the driver's field */
