@@ -8,6 +8,7 @@
  */
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include "m68k.h"
 #include "m68kcpu.h"
 #include "cpu.h"
@@ -318,12 +319,33 @@ static void window_set(int i, m68k_mem_window_t *w, uint8_t *mem, unsigned base,
         w->wait[rw] = buswait_cfg.ws[r][rw];
 }
 
+/* The ROM window's memory (our patch 0013, musashi_cnf.h): the EPROM's
+ * words in host order, made from the image at every reset and for every
+ * card (nothing writes the EPROM: bus.c refuses, gdbstub.c too). */
+#if M68K_ROM_WINDOW_HOST_WORDS
+static uint8_t rom_words[EPROM_SIZE];
+static const sim_t *rom_words_of;
+static uint8_t *rom_window_mem(sim_t *s, int remake)
+{
+    if (remake || rom_words_of != s) {
+        for (unsigned i = 0; i < EPROM_SIZE; i += 2) {
+            uint16_t w = (uint16_t)(s->eprom[i] << 8 | s->eprom[i + 1]);
+            memcpy(rom_words + i, &w, 2);
+        }
+        rom_words_of = s;
+    }
+    return rom_words;
+}
+#else
+static uint8_t *rom_window_mem(sim_t *s, int remake) { (void)remake; return s->eprom; }
+#endif
+
 void cpu_m68k_windows(void)
 {
     int on = in_slice && mac4_fast && !mac4_gdb_on;
     windows_sync();
     buswait_sync = windows_sync;
-    window_set(0, &m68k_rom_window, g_sim->eprom, EPROM_BASE, EPROM_SIZE, on);
+    window_set(0, &m68k_rom_window, rom_window_mem(g_sim, 0), EPROM_BASE, EPROM_SIZE, on);
     window_set(1, &m68k_ram_window, g_sim->sram, SRAM_BASE, SRAM_SIZE,
                on && !mac4_idle_rec && !g_sim->sram_fault_mask);
 }
@@ -499,6 +521,7 @@ static void m68k_cpu_attach(void)
 static void m68k_reset_wrapper(sim_t *s)
 {
     m68k_cpu_attach();
+    rom_window_mem(s, 1);
     s->cpu_elapsed = m68k_elapsed;
     s->cpu_pc = m68k_pc;
     m68k_cpu_reset(s);

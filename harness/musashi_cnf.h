@@ -108,6 +108,13 @@ void mac4_bus_extra(unsigned address, int n);
 #else
 #define M68K_BUS_EXTRA_CALLBACK(A, N) mac4_bus_extra(A, N)
 #endif
+/* The ROM window's memory is the EPROM's words in host order (our patch
+ * 0013; harness/cpu_m68k.c keeps the copy), on a little-endian GCC host. */
+#if defined(__GNUC__) && defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+#define M68K_ROM_WINDOW_HOST_WORDS  OPT_ON
+#else
+#define M68K_ROM_WINDOW_HOST_WORDS  OPT_OFF
+#endif
 /* The emulator's bus errors are the 68000's (m68k_bus_error, our patch
  * 0007; cpu_m68k.c), which leave the registers as the instruction left
  * them, so the core saves none before every instruction (our patch
