@@ -231,15 +231,13 @@ static void idx_event(sim_t *s, int n, cyc_t t)
 /* ======================================================================== */
 /* stepping, cuts and the event loop                                         */
 /* ======================================================================== */
-/* A servo's inputs as the board and the plant hold them: in_u, in_en and
- * in_boost are functions of these alone, so while they are the same the
- * step's inputs are too (inputs_changed).  Bit 63: a servo's key. */
+/* A servo's inputs as the board's lines and the plant hold them: in_u,
+ * in_en and in_boost are functions of these alone, so while they are the
+ * same the step's inputs are too (inputs_changed).  Bit 63: a servo's key. */
 static inline uint64_t inputs_key(sim_t *s, int n)
 {
-    const axis_hw_t *a = &s->ax[n];
     const plant_axis_t *p = &s->plant.ax[n];
-    return (uint64_t)(uint16_t)a->dac | (uint64_t)(a->ctrl & (AX_CTRL_EN | AX_CTRL_BOOST)) << 16 |
-           (uint64_t)(a->stop != 0) << 32 | (uint64_t)(p->drive_fault != 0) << 33 |
+    return (uint64_t)axb_drive_lines(s, n) | (uint64_t)(p->drive_fault != 0) << 33 |
            (uint64_t)(p->reversed != 0) << 34 | 1ull << 63;
 }
 

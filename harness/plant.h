@@ -134,6 +134,7 @@ int axb_dir(struct sim *s, int n);               /* DIR (AX_CTRL_DIR) */
 int axb_boost(struct sim *s, int n);             /* BOOST (AX_CTRL_BOOST) */
 int16_t axb_dac(struct sim *s, int n);           /* DAC word, 12 bits */
 double axb_dac_volts(struct sim *s, int n);      /* DAC out, V */
+uint32_t axb_drive_lines(struct sim *s, int n);  /* DAC word, /EN (with /STOP) and BOOST as one word */
 uint16_t axb_rate(struct sim *s, int n);         /* STP rate register */
 double axb_step_hz(struct sim *s, int n);        /* STEP rate, signed by DIR; 0 when the down-counter stopped it */
 int axb_step_running(struct sim *s, int n);      /* pulses are coming */
