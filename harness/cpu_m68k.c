@@ -320,21 +320,18 @@ static void window_set(int i, m68k_mem_window_t *w, uint8_t *mem, unsigned base,
 }
 
 /* The ROM window's memory (our patch 0013, musashi_cnf.h): the EPROM's
- * words in host order, made from the image at every reset and for every
- * card (nothing writes the EPROM: bus.c refuses, gdbstub.c too). */
+ * words in host order, in the card's sim_t beside the EPROM (a copy of the
+ * sim_t, as the fuzz targets make, takes it along), made from the image at
+ * every reset (nothing writes the EPROM: bus.c refuses, gdbstub.c too). */
 #if M68K_ROM_WINDOW_HOST_WORDS
-static uint8_t rom_words[EPROM_SIZE];
-static const sim_t *rom_words_of;
 static uint8_t *rom_window_mem(sim_t *s, int remake)
 {
-    if (remake || rom_words_of != s) {
+    if (remake)
         for (unsigned i = 0; i < EPROM_SIZE; i += 2) {
             uint16_t w = (uint16_t)(s->eprom[i] << 8 | s->eprom[i + 1]);
-            memcpy(rom_words + i, &w, 2);
+            memcpy(s->eprom_words + i, &w, 2);
         }
-        rom_words_of = s;
-    }
-    return rom_words;
+    return s->eprom_words;
 }
 #else
 static uint8_t *rom_window_mem(sim_t *s, int remake) { (void)remake; return s->eprom; }
