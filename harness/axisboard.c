@@ -35,6 +35,13 @@ int axb_boost(sim_t *s, int n) { return (s->ax[n].ctrl & AX_CTRL_BOOST) != 0; }
 uint16_t axb_rate(sim_t *s, int n) { return s->ax[n].rate; }
 int16_t axb_dac(sim_t *s, int n) { return s->ax[n].dac; }
 double axb_dac_volts(sim_t *s, int n) { return (double)s->ax[n].dac * (10.0 / 2048.0); }
+/* What a servo's drive sees, as one word: the plant's step inputs change
+ * only when it does (plant.c inputs_key). */
+uint32_t axb_drive_lines(sim_t *s, int n)
+{
+    const axis_hw_t *a = &s->ax[n];
+    return (uint16_t)a->dac | (uint32_t)(a->ctrl & (AX_CTRL_EN | AX_CTRL_BOOST)) << 16 | (uint32_t)(a->stop != 0) << 31;
+}
 
 /* ======================================================================== */
 /* step generator: phase accumulator, pulses counted analytically            */

@@ -6,6 +6,9 @@
  * not expect (vector fetches that are not interrupt acknowledges) and
  * illegal opcodes.
  */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 #include "m68k.h"
 #include "m68kcpu.h"
 #include "cpu.h"
@@ -21,10 +24,19 @@ static int in_slice;        /* m68k_cycles_run() is only meaningful inside m68k_
 static cyc_t slice_done;    /* cycles of the slice before a gdb stop (gdbstub.c) */
 
 unsigned mac4_hook_lo = 1, mac4_hook_span;   /* musashi_cnf.h: PC 1 alone, as mac4_idle_pc */
+extern int m68k_fast_hook_loop;   /* our patch 0011 (m68kcpu.h; MAC4_IDLE_HOOK is the core's alone) */
 
 void mac4_hooks_update(void)
 {
-    if (mac4_gdb_on || mac4_profiling) {
+    /* --no-fast: every instruction through the full hook, as before the
+     * fast loop (our patch 0011) */
+    if (mac4_gdb_on || mac4_profiling || !mac4_fast) {
+        /* Musashi's fast loop sees no hook turned on in it but from the idle
+         * skip's callback, which clears the flag */
+        if (m68k_fast_hook_loop) {
+            fprintf(stderr, "mac4sim: instruction hook turned on inside a slice outside the idle hook\n");
+            abort();
+        }
         mac4_hook_lo = 0;
         mac4_hook_span = ~0u;
     } else {
@@ -307,12 +319,30 @@ static void window_set(int i, m68k_mem_window_t *w, uint8_t *mem, unsigned base,
         w->wait[rw] = buswait_cfg.ws[r][rw];
 }
 
+/* The ROM window's memory (our patch 0013, musashi_cnf.h): the EPROM's
+ * words in host order, in the card's sim_t beside the EPROM (a copy of the
+ * sim_t, as the fuzz targets make, takes it along), made from the image at
+ * every reset (nothing writes the EPROM: bus.c refuses, gdbstub.c too). */
+#if M68K_ROM_WINDOW_HOST_WORDS
+static uint8_t *rom_window_mem(sim_t *s, int remake)
+{
+    if (remake)
+        for (unsigned i = 0; i < EPROM_SIZE; i += 2) {
+            uint16_t w = (uint16_t)(s->eprom[i] << 8 | s->eprom[i + 1]);
+            memcpy(s->eprom_words + i, &w, 2);
+        }
+    return s->eprom_words;
+}
+#else
+static uint8_t *rom_window_mem(sim_t *s, int remake) { (void)remake; return s->eprom; }
+#endif
+
 void cpu_m68k_windows(void)
 {
     int on = in_slice && mac4_fast && !mac4_gdb_on;
     windows_sync();
     buswait_sync = windows_sync;
-    window_set(0, &m68k_rom_window, g_sim->eprom, EPROM_BASE, EPROM_SIZE, on);
+    window_set(0, &m68k_rom_window, rom_window_mem(g_sim, 0), EPROM_BASE, EPROM_SIZE, on);
     window_set(1, &m68k_ram_window, g_sim->sram, SRAM_BASE, SRAM_SIZE,
                on && !mac4_idle_rec && !g_sim->sram_fault_mask);
 }
@@ -482,11 +512,13 @@ static void m68k_cpu_attach(void)
     m68k_init();
     m68k_set_cpu_type(M68K_CPU_TYPE_68000);
     buswait_init();
+    mac4_hooks_update();    /* mac4_fast is known now */
 }
 
 static void m68k_reset_wrapper(sim_t *s)
 {
     m68k_cpu_attach();
+    rom_window_mem(s, 1);
     s->cpu_elapsed = m68k_elapsed;
     s->cpu_pc = m68k_pc;
     m68k_cpu_reset(s);

@@ -12,6 +12,9 @@
 #define OPT_SPECIFY_HANDLER 2
 
 #define M68K_COMPILE_FOR_MAME       OPT_OFF
+/* The core is a 68000 and nothing else (our patch 0010): constant address
+ * mask and cycle table.  The stock core knows no such option. */
+#define M68K_ONLY_68000             OPT_ON
 #define M68K_EMULATE_010            OPT_OFF
 #define M68K_EMULATE_EC020          OPT_OFF
 #define M68K_EMULATE_020            OPT_OFF
@@ -68,6 +71,13 @@ void mac4_idle_instr(unsigned pc);
 extern unsigned mac4_hook_lo, mac4_hook_span;
 void mac4_hooks_update(void);
 #ifdef MAC4_IDLE_HOOK
+/* Our patch 0011: while neither gdb nor the profiler is on (mac4_hook_span
+ * 0), m68k_execute's fast loop compares each PC with the idle skip's one
+ * (mac4_hook_lo) and nothing else; mac4_hooks_update refuses to turn the
+ * full hook on inside that loop other than from this callback. */
+#define M68K_FAST_HOOK_PC           mac4_hook_lo
+#define M68K_FAST_HOOK_OFF          (mac4_hook_span != 0)
+#define M68K_FAST_HOOK_CALLBACK(pc) do { if ((pc) == mac4_idle_pc) mac4_idle_instr(pc); } while (0)
 #define M68K_INSTRUCTION_CALLBACK(pc) \
     if (__builtin_expect((unsigned)(pc) - mac4_hook_lo <= mac4_hook_span, 0)) { \
         if (mac4_gdb_on && mac4_gdb_instr(pc)) break; else if (mac4_profiling) mac4_profile_instr(pc); \
@@ -97,6 +107,13 @@ void mac4_bus_extra(unsigned address, int n);
     } while (0)
 #else
 #define M68K_BUS_EXTRA_CALLBACK(A, N) mac4_bus_extra(A, N)
+#endif
+/* The ROM window's memory is the EPROM's words in host order (our patch
+ * 0013; harness/cpu_m68k.c keeps the copy), on a little-endian GCC host. */
+#if defined(__GNUC__) && defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+#define M68K_ROM_WINDOW_HOST_WORDS  OPT_ON
+#else
+#define M68K_ROM_WINDOW_HOST_WORDS  OPT_OFF
 #endif
 /* The emulator's bus errors are the 68000's (m68k_bus_error, our patch
  * 0007; cpu_m68k.c), which leave the registers as the instruction left

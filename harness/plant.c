@@ -231,9 +231,20 @@ static void idx_event(sim_t *s, int n, cyc_t t)
 /* ======================================================================== */
 /* stepping, cuts and the event loop                                         */
 /* ======================================================================== */
+/* A servo's inputs as the board's lines and the plant hold them: in_u,
+ * in_en and in_boost are functions of these alone, so while they are the
+ * same the step's inputs are too (inputs_changed).  Bit 63: a servo's key. */
+static inline uint64_t inputs_key(sim_t *s, int n)
+{
+    const plant_axis_t *p = &s->plant.ax[n];
+    return (uint64_t)axb_drive_lines(s, n) | (uint64_t)(p->drive_fault != 0) << 33 |
+           (uint64_t)(p->reversed != 0) << 34 | 1ull << 63;
+}
+
 static void predict(sim_t *s, int n)
 {
     plant_axis_t *p = &s->plant.ax[n];
+    p->in_key = is_stp(s) ? 0 : inputs_key(s, n);
     p->in_u = input_u(s, n);
     p->in_en = plant_drive_enabled(s, n);
     p->in_boost = axb_boost(s, n);
@@ -280,6 +291,8 @@ static void cut(sim_t *s, int n, cyc_t now)
 static int inputs_changed(sim_t *s, int n)
 {
     plant_axis_t *p = &s->plant.ax[n];
+    if (p->in_key && p->in_key == inputs_key(s, n))
+        return 0;   /* a servo's same raw inputs: the same u, enable and boost */
     return p->in_u != input_u(s, n) || p->in_en != plant_drive_enabled(s, n) ||
            p->in_boost != axb_boost(s, n);
 }

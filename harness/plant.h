@@ -77,6 +77,7 @@ typedef struct {
     double x0, v0, x1, v1;     /* servo: motor rev, rad/s; stepper: rotor steps, steps/s */
     double in_u;               /* inputs the current step was computed with */
     int in_en, in_boost;
+    uint64_t in_key;           /* servo: the raw inputs in_u, in_en, in_boost come from (plant.c inputs_key) */
     uint64_t t_sync;           /* the models are up to date until here */
     /* stepper */
     int sync;                  /* the rotor follows the driver's field */
@@ -133,6 +134,7 @@ int axb_dir(struct sim *s, int n);               /* DIR (AX_CTRL_DIR) */
 int axb_boost(struct sim *s, int n);             /* BOOST (AX_CTRL_BOOST) */
 int16_t axb_dac(struct sim *s, int n);           /* DAC word, 12 bits */
 double axb_dac_volts(struct sim *s, int n);      /* DAC out, V */
+uint32_t axb_drive_lines(struct sim *s, int n);  /* DAC word, /EN (with /STOP) and BOOST as one word */
 uint16_t axb_rate(struct sim *s, int n);         /* STP rate register */
 double axb_step_hz(struct sim *s, int n);        /* STEP rate, signed by DIR; 0 when the down-counter stopped it */
 int axb_step_running(struct sim *s, int n);      /* pulses are coming */

@@ -66,6 +66,7 @@ typedef struct sim {
     int card;                      /* MAC4_CARD_* */
     uint8_t dpram[DPRAM_SIZE];
     uint8_t eprom[EPROM_SIZE];
+    uint8_t eprom_words[EPROM_SIZE];   /* the same in host word order: the core's ROM window (cpu_m68k.c) */
     uint8_t sram[SRAM_SIZE];
     uint32_t sram_fault_addr;      /* fault injection: bits stuck at 1 in this word */
     uint16_t sram_fault_mask;
