@@ -237,7 +237,7 @@ static inline int32_t stp_hz_now(unsigned n)
 
 /* ROUT in Steps/SP (table 6.2): the frequency of the moment x 32 ms,
  * rounded, 4 hz / 125 (|hz| <= 500 kHz: the quotient fits DIVU's 16 bits).
- * Inline: the diagnosis (stp_meas.c cmd_read_card) takes it without a
+ * Inline: the diagnosis (stp_variant.h card_read) takes it without a
  * second call with stack arguments. */
 FW_INLINE int32_t stp_out_steps_sp(unsigned n)
 {
