@@ -1,6 +1,7 @@
 /*
  * card_variant.h - the card variant's part of the card's common files
- * (axis.c, card.c, supervise.c, measure.c, cmd_general.c, cmd_param.c): one
+ * (axis.c, card.c, supervise.c, measure.c, cmd.c, cmd_general.c,
+ * cmd_param.c): one
  * name per hook, inline, defined once for the servo cards (INC, SSI:
  * servo_card.h) and once for the stepper (STP: stp_variant.h); and the
  * card's own encoder, defined once per encoder interface.  The motion
@@ -38,6 +39,14 @@ void axis_prepare_enc(axis_t *x, unsigned n, int32_t et);
 #include "ssi_card.h"
 #else
 #include "inc_card.h"
+#endif
+
+/* The diagnosis' card stages (cmd.c, CK_CARD): inline where the card's
+ * header gives card_read (STP), else cmd_read_card out of line
+ * (servo_meas.c). */
+#ifndef CARD_READ_INLINE
+#include "cmd_table.h"
+FW_INLINE uint32_t card_read(unsigned ci, unsigned a) { return cmd_read_card(ci, a); }
 #endif
 
 #endif

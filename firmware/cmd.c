@@ -28,6 +28,7 @@
 #include "measure.h"
 #include "ext.h"
 #include "cmd_table.h"
+#include "card_variant.h"
 
 /* ---- the command table -------------------------------------------------- */
 /* the command indices CI_*: cmd.h */
@@ -146,8 +147,8 @@ static int is_card_error(uint16_t code)
 }
 
 /* A read's value (6.3: executed even with an error waiting): a field of
- * the axis in one move, the card's stages' (ROUT, the STP's RCPI), or
- * worked out (cmd_read.c). */
+ * the axis in one move, the card's stages' (ROUT, the STP's RCPI:
+ * card_variant.h card_read), or worked out (cmd_read.c). */
 FW_INLINE uint32_t read_value(cmd_t c, unsigned a)
 {
     const uint8_t *x = (const uint8_t *)axis_at[a];
@@ -156,7 +157,7 @@ FW_INLINE uint32_t read_value(cmd_t c, unsigned a)
     if (c.kind == CK_FIELD16)
         return (uint32_t)(int32_t)*(const int16_t *)(const void *)(x + c.arg);
     if (c.kind == CK_CARD)
-        return cmd_read_card(c.arg, a);
+        return card_read(c.arg, a);
     return cmd_read_value(c.kind, c.arg, a);
 }
 

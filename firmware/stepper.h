@@ -223,9 +223,6 @@ void stp_motion_start(unsigned n, uint8_t mode, const stp_plan_t *pl);
 void stp_status(unsigned n);                  /* once per SP: TURBO, status bits */
 int stp_positioning(unsigned n, int64_t vmax, int64_t acc, int64_t dec, int64_t ssf);
 void stp_profile_end(unsigned n, int64_t before, int64_t before_vel);  /* BOOST gate */
-/* ROUT, Steps/SP (table 6.2); the output stage itself is stp_rate.h's */
-int32_t stp_out_steps_sp(unsigned n);
-
 /* The step frequency now, Hz, signed: x 0.7629 (TURBO x 7.629). */
 static inline int32_t stp_hz_now(unsigned n)
 {
@@ -236,6 +233,18 @@ static inline int32_t stp_hz_now(unsigned n)
     if (s->clocks == STP_TICK_CLOCKS_TURBO)
         hz *= 10;
     return s->dir < 0 ? -hz : hz;
+}
+
+/* ROUT in Steps/SP (table 6.2): the frequency of the moment x 32 ms,
+ * rounded, 4 hz / 125 (|hz| <= 500 kHz: the quotient fits DIVU's 16 bits).
+ * Inline: the diagnosis (stp_variant.h card_read) takes it without a
+ * second call with stack arguments. */
+FW_INLINE int32_t stp_out_steps_sp(unsigned n)
+{
+    int32_t hz = stp_hz_now(n);
+    uint32_t a = (uint32_t)(hz < 0 ? -hz : hz);
+    int32_t q = (int32_t)(uint16_t)divu16(4u * a + 62u, 125u);
+    return hz < 0 ? -q : q;
 }
 
 #endif

@@ -3,8 +3,8 @@
  * tick's distance is stp_rate.h's stp_rate and the creep phase's tick part
  * stp_rate.h's creep_tick (both inline in the tick); here the end of a
  * creep phase (5.6, diagram 5.2) or of the trim, its abort, the output of a
- * disabled or tested axis (5.13), ROUT.  The
- * STP's image alone links it (Makefile, FW_STP).
+ * disabled or tested axis (5.13).  The STP's image alone links it
+ * (Makefile, FW_STP).
  */
 #include "inline.h"
 #include "fw.h"
@@ -74,14 +74,4 @@ void stp_idle_output(unsigned n)
     s->carry = 0;
     s->active = s->boost = s->boost_en = 0;
     s->obits &= (uint16_t)~AX_CTRL_BOOST;
-}
-
-/* ROUT in Steps/SP (table 6.2): the frequency of the moment x 32 ms,
- * rounded, 4 hz / 125 (|hz| <= 500 kHz: the quotient fits DIVU's 16 bits) */
-int32_t stp_out_steps_sp(unsigned n)
-{
-    int32_t hz = stp_hz_now(n);
-    uint32_t a = (uint32_t)(hz < 0 ? -hz : hz);
-    int32_t q = (int32_t)(uint16_t)divu16(4u * a + 62u, 125u);
-    return hz < 0 ? -q : q;
 }

@@ -11,6 +11,7 @@
 #include "params.h"
 #include "stepper.h"
 #include "stp_rate.h"
+#include "cmd.h"
 
 /* the controller period (7.4), the board's (hal/mac4_map.h) */
 #define CARD_TICK_US SERVO_PERIOD_US_STP
@@ -30,6 +31,16 @@ FW_INLINE int32_t axis_mf_tol(unsigned n) { return stp_tol(n); }
 
 /* ROUT: the step frequency in Hz. */
 FW_INLINE uint32_t card_rout(const axis_t *x, unsigned n) { (void)x; return (uint32_t)stp_hz_now(n); }
+/* The diagnosis' card stages (cmd.c read_value, CK_CARD), inline: a
+ * quarter of the reads is ROUT, Steps/SP (table 6.2); RCPI the increments
+ * since INIT. */
+#define CARD_READ_INLINE 1
+FW_INLINE uint32_t card_read(unsigned ci, unsigned a)
+{
+    if (ci == CI_RCPI)
+        return (uint32_t)stp_counts(a);
+    return (uint32_t)stp_out_steps_sp(a);
+}
 /* LED F also shows an unacknowledged error (7.1.2 led_fault). */
 FW_INLINE int card_led_fault(const axis_t *x) { return (x->ustat & US_ERRORS) != 0; }
 
