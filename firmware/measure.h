@@ -203,8 +203,9 @@ FW_INLINE int measure_ssi_read(axis_t *x, unsigned n, uint32_t *rawp)
     if (RARELY(hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY))
         for (unsigned i = 0; (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY) && i < 199; i++)
             ;
-    uint32_t hi = hal_rd16(AX_REG(n, AX_SSI_HI));
-    uint32_t raw = (((hi << 16) | hal_rd16(AX_REG(n, AX_SSI_LO))) >> c->sc) & c->mask;
+    /* both words in one read: the 68000 makes it two word cycles, AX_SSI_HI
+     * first (the lower address), then AX_SSI_LO, as two reads would */
+    uint32_t raw = (hal_rd32(AX_REG(n, AX_SSI_HI)) >> c->sc) & c->mask;
     if (x->ustat & UB(GRAY))
         raw = gray_to_binary(raw);
     if (RARELY(raw > c->lim)) {                         /* beyond <ec> (4.4.2.1, 6.3.8) */
