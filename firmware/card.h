@@ -245,7 +245,7 @@ typedef struct {
 #define MK_COUNTER 0    /* internal 24-bit counter: the fast path */
 #define MK_OTHER 1      /* SSI, external VMEbus or DPRAM: measure.c */
 #define MK_NONE 2       /* not initialised: position reads 0 (4.9) */
-#define MK_SSI 3        /* MAC4-SSI, the encoder at the connector: measure_ssi() in the tick */
+#define MK_SSI 3        /* MAC4-SSI, the encoder at the connector: measure_ssi_read() in the tick */
 #define MK_SSI_ABS 4    /* the same, absolute on a linear axis (the SSI's defaults): the reading is the position */
 #define MK_SSI_CIRC 5   /* the same, absolute on a circular axis: the motion the shorter way round */
 

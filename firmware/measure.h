@@ -152,6 +152,22 @@ FW_INLINE int32_t circular_delta(const axis_t *x, uint32_t raw)
     return d;
 }
 
+/* A relative system's motion since the last reading raw (table 4.3): the
+ * counter wraps at <ec> or at 2^<eb> (less than half of it per tick). */
+FW_INLINE int32_t measure_delta_rel(const axis_t *x, const meas_cfg_t *c, uint32_t raw)
+{
+    if (c->range) {
+        int32_t d = (int32_t)(raw - x->counter);
+        if (d > c->half)
+            d -= c->range;
+        else if (d < -c->half)
+            d += c->range;
+        return d;
+    }
+    uint32_t u = (raw - x->counter) & c->mask;
+    return (int32_t)((u ^ c->sign) - c->sign);          /* bit <eb>-1 the sign: extended */
+}
+
 /* The motion since the last reading raw (<eb> bits, within <ec>), the same
  * for every system: absolute on a linear axis the reading is the position;
  * on a circular one the encoder's wrap is the axis' (4.3.1.2); relative,
@@ -166,16 +182,7 @@ FW_INLINE int32_t measure_delta_k(const axis_t *x, const meas_cfg_t *c,
         return (int32_t)(raw - (uint32_t)x->meas);
     if (c->abs)
         return circular_delta(x, raw);
-    if (c->range) {
-        int32_t d = (int32_t)(raw - x->counter);
-        if (d > c->half)
-            d -= c->range;
-        else if (d < -c->half)
-            d += c->range;
-        return d;
-    }
-    uint32_t u = (raw - x->counter) & c->mask;
-    return (int32_t)((u ^ c->sign) - c->sign);          /* bit <eb>-1 the sign: extended */
+    return measure_delta_rel(x, c, raw);
 }
 
 FW_INLINE int32_t measure_delta(const axis_t *x, const meas_cfg_t *c,
@@ -196,8 +203,9 @@ FW_INLINE int measure_ssi_read(axis_t *x, unsigned n, uint32_t *rawp)
     if (RARELY(hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY))
         for (unsigned i = 0; (hal_rd16(AX_REG(n, AX_IN)) & AX_IN_SSI_BUSY) && i < 199; i++)
             ;
-    uint32_t hi = hal_rd16(AX_REG(n, AX_SSI_HI));
-    uint32_t raw = (((hi << 16) | hal_rd16(AX_REG(n, AX_SSI_LO))) >> c->sc) & c->mask;
+    /* both words in one read: the 68000 makes it two word cycles, AX_SSI_HI
+     * first (the lower address), then AX_SSI_LO, as two reads would */
+    uint32_t raw = (hal_rd32(AX_REG(n, AX_SSI_HI)) >> c->sc) & c->mask;
     if (x->ustat & UB(GRAY))
         raw = gray_to_binary(raw);
     if (RARELY(raw > c->lim)) {                         /* beyond <ec> (4.4.2.1, 6.3.8) */
@@ -209,7 +217,9 @@ FW_INLINE int measure_ssi_read(axis_t *x, unsigned n, uint32_t *rawp)
     return 0;
 }
 
-/* ... and the motion since the last reading */
+
+/* ... and the motion since the last reading (the floor runner's reference,
+ * bench/floor/ref_servo.c; the tick's relative path is measure_rel_take) */
 FW_INLINE int measure_ssi(axis_t *x, unsigned n, int32_t *dp, int abs_linear)
 {
     uint32_t raw;
@@ -286,6 +296,25 @@ FW_INLINE int32_t measure_abs_take(axis_t *x, uint32_t raw)
     measure_raw_take(x, raw);
     x->meas = (int32_t)raw;
     return (int32_t)raw;
+}
+
+/* ... and of a relative system (MK_SSI: <et> 1, or the absolute reading
+ * followed as relative while a compensation table is on, ext_comp.c, which
+ * clears abs before the kind changes; c->abs is 0 whenever the kind is
+ * MK_SSI, so neither of measure_delta_k's absolute tests is made): the
+ * motion into both positions, the displayed one wrapped on a circular axis;
+ * the measured position returned. */
+FW_INLINE int32_t measure_rel_take(axis_t *x, const meas_cfg_t *c, uint32_t raw)
+{
+    int32_t d = measure_delta_rel(x, c, raw);
+    measure_raw_take(x, raw);
+    int32_t meas = pos_add(x->meas, d);
+    x->meas = meas;
+    int32_t pos = pos_add(x->pos, d);
+    if (!x->linear)
+        pos = measure_wrapped(x, pos);
+    x->pos = pos;
+    return meas;
 }
 
 /* ... and of a circular axis (4.3.1.2): the motion the shorter way round

@@ -2,7 +2,7 @@
  * ssi_meas.c - the MAC4-SSI's own encoder interface, the SSI receiver at P2
  * (<et> 1/2, 4.4.2.2), INIT's part of it: the hooks of card_variant.h, "the
  * card's own encoder".  The tick reads the receiver with measure.h's
- * measure_ssi; J1's Gray code status at every input change is ssi_card.h's.
+ * measure_ssi_read; J1's Gray code status at every input change is ssi_card.h's.
  * The SSI image links it (Makefile, FW_SSI); the INC's and the STP's
  * counter is counter_meas.c.
  */
@@ -30,7 +30,7 @@ void measure_init_enc(unsigned n, meas_cfg_t *c, int32_t et, int32_t *eb, int32_
 }
 
 /* INIT's first reading: a read started now, right-justified (4.4.2.2),
- * within <eb>, Gray to binary with J1 set; the tick's is measure_ssi. */
+ * within <eb>, Gray to binary with J1 set; the tick's is measure_ssi_read. */
 int measure_read_enc(unsigned n, const meas_cfg_t *c, uint32_t *raw)
 {
     hal_wr16(AX_REG(n, AX_SSI_START), 1);
@@ -44,7 +44,7 @@ int measure_read_enc(unsigned n, const meas_cfg_t *c, uint32_t *raw)
     return 0;
 }
 
-/* The tick's measure_ssi; absolute, a path of its own on a linear axis and
+/* The tick's measure_ssi_read; absolute, a path of its own on a linear axis and
  * on a circular one (the compensation table follows only the linear one as
  * relative: the circular one's motion is already the difference of two
  * readings, axis.h axis_kind_relative). */

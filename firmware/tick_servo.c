@@ -76,7 +76,6 @@ FW_INLINE int32_t tick_measure_ext(axis_t *x, unsigned n)
 FW_INLINE int32_t tick_measure(axis_t *x, unsigned n)
 {
     uint8_t mk = x->mk_tick;                      /* MK_NONE before INIT (4.9) */
-    int32_t d;
     uint32_t raw;
     if (MAC4_CARD == MAC4_CARD_INC && mk == MK_COUNTER) {
         measure_apply(x, measure_counter(x, n));
@@ -89,8 +88,8 @@ FW_INLINE int32_t tick_measure(axis_t *x, unsigned n)
         if (measure_ssi_read(x, n, &raw) == 0)
             return measure_circ_take(x, raw);
     } else if (MAC4_CARD == MAC4_CARD_SSI && mk == MK_SSI) {       /* relative, or followed as relative */
-        if (measure_ssi(x, n, &d, 0) == 0)
-            measure_apply(x, d);
+        if (measure_ssi_read(x, n, &raw) == 0)
+            return measure_rel_take(x, &meas_cfg[n], raw);
     }
     return x->meas;                               /* MK_NONE: nothing measured before INIT */
 }
