@@ -24,6 +24,7 @@
 #include "motion.h"
 #include "cmd.h"
 #include "cmd_table.h"
+#include "leds.h"
 #include <stddef.h>
 #include "floor.h"
 #include "floorrun.h"
@@ -512,20 +513,12 @@ static void publish(unsigned n)
     hal_wr32(d + DPA_RAW, x->raw);
 }
 
+/* supervise.c's: one axis' body from leds.h */
 static void leds(void)
 {
     uint16_t l = 0;
-    for (unsigned n = 0; n < MAC4_NAXES; n++) {
-        const axis_t *x = &axes[n];
-        if (x->mode == M_DISABLE)
-            l |= (uint16_t)(SYS_LED_D << SYS_LED_SHIFT(n));
-        if (x->ustat & UB(POS_END))
-            l |= (uint16_t)(SYS_LED_P << SYS_LED_SHIFT(n));
-        int32_t df = PAR(n, DF);
-        int df_on = df != 0 && (((hal_rd16(AX_REG(n, AX_IN)) & AX_IN_DF) != 0) ^ (df == 2));
-        if (df_on || (x->ustat & US_ERRORS))
-            l |= (uint16_t)(SYS_LED_F << SYS_LED_SHIFT(n));
-    }
+    for (unsigned n = 0; n < MAC4_NAXES; n++)
+        l = axis_leds(l, n);
     hal_wr16(SYS_LEDS, l);
 }
 
