@@ -93,31 +93,36 @@ typedef struct {
     /* profile generator (motion*.c, main loop, masked), measurement frame, Q16 */
     /* writers: motion.c motion_profile.c motion_justify.c stepper.c servo_motion.h */
     prof_t prof;
-    /* the hand-over of the next SP from the profile generator to the tick:
-     * motion_profile.c writes the segment (nx_*) and the next row, then sets
-     * nx_ready, masked; the tick takes them at the SP boundary and clears
-     * nx_ready (tick_servo.c take_row, tick_stp.c stp_take_segment);
-     * motion_hold / brake_done (motion.c) start both sides again */
+    /* the hand-over of the next SP from the profile generator to the tick,
+     * both sides through handover.h: motion_profile.c writes the segment
+     * (nx_*) and publishes it with the next row (handover_rows,
+     * handover_publish), masked; the tick takes them at the SP boundary and
+     * clears nx_ready (tick_servo.c take_row, tick_stp.c stp_take_segment:
+     * handover_take_row, handover_take_segment); motion.c drops a prepared
+     * SP (handover_drop) and motion_hold / brake_done start both sides
+     * again (handover_hold, the card's handover_rows_* or _segment_*) */
     struct {
         /* the next SP's segment split as the tick uses it: start, step per
          * tick and end, integer + Q16 fraction */
         /* writers: motion_profile.c */
         int32_t nx_start_i, nx_st_i, nx_end_i;
         uint16_t nx_start_f, nx_st_f, nx_end_f;
-        /* writers: motion_profile.c tick_servo.c tick_stp.c motion.c */
+        /* writers: handover.h */
         volatile uint8_t nx_ready;
         /* INC/SSI: the setpoints of an SP, one per tick, rounded: the row the
          * tick uses and the next one (the tick swaps them) */
-        /* writers: motion_profile.c tick_servo.c servo_motion.h */
+        /* writers: handover.h */
         int32_t sp_rows[2][PROFILE_DIVIDER];
         int32_t *sp_now, *sp_next;
         int32_t sp_vel, sp_vel_next;    /* the rows' velocity, Q16 per SP */
     };
-    /* STP: the setpoint the tick interpolates in the segment it took: the
-     * tick's (tick_stp.c, stp_rate.h's creep and trim), set again by
-     * motion.c's hold and brake_done, masked */
+    /* STP: the setpoint the tick interpolates in the segment it took, the
+     * hand-over's tick side (handover.h): the tick's (tick_stp.c
+     * handover_sp_set, stp_rate.h's creep handover_segment_at_end), set
+     * again by motion.c's hold and the STP's brake_done (handover_hold,
+     * handover_segment_at_brake), masked */
     struct {
-        /* writers: tick_stp.c stp_rate.h motion.c stp_motion.h */
+        /* writers: handover.h */
         int32_t sp_i;       /* setpoint, integer part */
         uint16_t sp_f;      /* and Q16 fraction */
         uint16_t st_f;      /* the segment's step per tick, split the same way */
