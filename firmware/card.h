@@ -167,12 +167,13 @@ typedef struct {
      * index latch move the mode's progress on through motion_priv.h
      * (mode_done, edge_found, index_latched, trt_count_step,
      * justify_phase); the phase is the justification modes' and the STP's
-     * creep's (stepper.c), motion.c zeroes it at E */
+     * creep's (stepper.c), motion.c zeroes it at E, all through card.h
+     * axis_phase_set */
     struct {
         /* writers: motion.c motion_priv.h */
         int64_t target;     /* positioning target */
         int32_t edge;       /* justification: position of the edge / index found (edge_found) */
-        /* writers: motion.c motion_priv.h stepper.c */
+        /* writers: card.h */
         uint8_t phase;      /* phase of a justification mode (STP: of the creep) */
         /* writers: motion.c motion_priv.h */
         uint8_t done;       /* the move of the current mode is complete (mode_done) */
@@ -308,6 +309,14 @@ static inline void split_q16(int64_t q, int32_t *i, uint16_t *f)
  * index interrupt's fault path (supervise.c) - masked or in an interrupt,
  * so it is one register's copy, not a part each of them owns. */
 FW_INLINE void axis_ctrl_set(axis_t *x, uint16_t ctrl) { x->ctrl = ctrl; }
+
+/* The mode's phase byte, its one write: a justification mode's step of its
+ * diagram (motion_priv.h justify_phase), the STP's creep phase of
+ * positioning (stepper.c stp_positioning, stp_profile_end), zeroed at E
+ * (motion.c motion_start); main loop, masked at E.  One byte for both: no
+ * mode has both (stepper.c cannot call motion_priv.h's setter, motion.c
+ * calls stepper.c: a cycle). */
+FW_INLINE void axis_phase_set(axis_t *x, uint8_t phase) { x->phase = phase; }
 
 /* The tick's own brake keeps its Q16 position plus one half (br_posh), so
  * that bits 16-47 are the rounded setpoint, one 32-bit part of it: these

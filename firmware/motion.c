@@ -202,7 +202,7 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
         tick_servo_reset(x);
     }
     x->done = 0;
-    x->phase = 0;
+    axis_phase_set(x, 0);
     if (!(mode == M_RESET && x->stop_then >= STOP_DISABLE)) {
         /* (an MRE during a stop that disables: that stop goes on, guards and all) */
         axis_stop_set(x, STOP_NONE, 0);
