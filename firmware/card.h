@@ -93,31 +93,36 @@ typedef struct {
     /* profile generator (motion*.c, main loop, masked), measurement frame, Q16 */
     /* writers: motion.c motion_profile.c motion_justify.c stepper.c servo_motion.h */
     prof_t prof;
-    /* the hand-over of the next SP from the profile generator to the tick:
-     * motion_profile.c writes the segment (nx_*) and the next row, then sets
-     * nx_ready, masked; the tick takes them at the SP boundary and clears
-     * nx_ready (tick_servo.c take_row, tick_stp.c stp_take_segment);
-     * motion_hold / brake_done (motion.c) start both sides again */
+    /* the hand-over of the next SP from the profile generator to the tick,
+     * both sides through handover.h: motion_profile.c writes the segment
+     * (nx_*) and publishes it with the next row (handover_rows,
+     * handover_publish), masked; the tick takes them at the SP boundary and
+     * clears nx_ready (tick_servo.c take_row, tick_stp.c stp_take_segment:
+     * handover_take_row, handover_take_segment); motion.c drops a prepared
+     * SP (handover_drop) and motion_hold / brake_done start both sides
+     * again (handover_hold, the card's handover_rows_* or _segment_*) */
     struct {
         /* the next SP's segment split as the tick uses it: start, step per
          * tick and end, integer + Q16 fraction */
         /* writers: motion_profile.c */
         int32_t nx_start_i, nx_st_i, nx_end_i;
         uint16_t nx_start_f, nx_st_f, nx_end_f;
-        /* writers: motion_profile.c tick_servo.c tick_stp.c motion.c */
+        /* writers: handover.h */
         volatile uint8_t nx_ready;
         /* INC/SSI: the setpoints of an SP, one per tick, rounded: the row the
          * tick uses and the next one (the tick swaps them) */
-        /* writers: motion_profile.c tick_servo.c servo_motion.h */
+        /* writers: handover.h */
         int32_t sp_rows[2][PROFILE_DIVIDER];
         int32_t *sp_now, *sp_next;
         int32_t sp_vel, sp_vel_next;    /* the rows' velocity, Q16 per SP */
     };
-    /* STP: the setpoint the tick interpolates in the segment it took: the
-     * tick's (tick_stp.c, stp_rate.h's creep and trim), set again by
-     * motion.c's hold and brake_done, masked */
+    /* STP: the setpoint the tick interpolates in the segment it took, the
+     * hand-over's tick side (handover.h): the tick's (tick_stp.c
+     * handover_sp_set, stp_rate.h's creep handover_segment_at_end), set
+     * again by motion.c's hold and the STP's brake_done (handover_hold,
+     * handover_segment_at_brake), masked */
     struct {
-        /* writers: tick_stp.c stp_rate.h motion.c stp_motion.h */
+        /* writers: handover.h */
         int32_t sp_i;       /* setpoint, integer part */
         uint16_t sp_f;      /* and Q16 fraction */
         uint16_t st_f;      /* the segment's step per tick, split the same way */
@@ -162,12 +167,13 @@ typedef struct {
      * index latch move the mode's progress on through motion_priv.h
      * (mode_done, edge_found, index_latched, trt_count_step,
      * justify_phase); the phase is the justification modes' and the STP's
-     * creep's (stepper.c), motion.c zeroes it at E */
+     * creep's (stepper.c), motion.c zeroes it at E, all through card.h
+     * axis_phase_set */
     struct {
         /* writers: motion.c motion_priv.h */
         int64_t target;     /* positioning target */
         int32_t edge;       /* justification: position of the edge / index found (edge_found) */
-        /* writers: motion.c motion_priv.h stepper.c */
+        /* writers: card.h */
         uint8_t phase;      /* phase of a justification mode (STP: of the creep) */
         /* writers: motion.c motion_priv.h */
         uint8_t done;       /* the move of the current mode is complete (mode_done) */
@@ -303,6 +309,14 @@ static inline void split_q16(int64_t q, int32_t *i, uint16_t *f)
  * index interrupt's fault path (supervise.c) - masked or in an interrupt,
  * so it is one register's copy, not a part each of them owns. */
 FW_INLINE void axis_ctrl_set(axis_t *x, uint16_t ctrl) { x->ctrl = ctrl; }
+
+/* The mode's phase byte, its one write: a justification mode's step of its
+ * diagram (motion_priv.h justify_phase), the STP's creep phase of
+ * positioning (stepper.c stp_positioning, stp_profile_end), zeroed at E
+ * (motion.c motion_start); main loop, masked at E.  One byte for both: no
+ * mode has both (stepper.c cannot call motion_priv.h's setter, motion.c
+ * calls stepper.c: a cycle). */
+FW_INLINE void axis_phase_set(axis_t *x, uint8_t phase) { x->phase = phase; }
 
 /* The tick's own brake keeps its Q16 position plus one half (br_posh), so
  * that bits 16-47 are the rounded setpoint, one 32-bit part of it: these

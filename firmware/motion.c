@@ -29,6 +29,7 @@
 #include "ext.h"
 #include "tick.h"
 #include "tick_servo.h"
+#include "handover.h"
 
 /* vq(): the card variant's (servo_motion.c, stp_motion.c). */
 
@@ -96,11 +97,7 @@ void motion_hold(unsigned n)
     x->prof.pos = meas_q(n);
     x->prof.vel = 0;
     /* both sides of the segment hand-over start again from here */
-    x->nx_ready = 0;
-    x->sp_i = x->start_i = x->end_i = (int32_t)(x->prof.pos >> 16);
-    x->sp_f = x->start_f = x->end_f = (uint16_t)x->prof.pos;
-    x->st_i = 0;
-    x->st_f = 0;
+    handover_hold(x, x->prof.pos);
     motion_hold_card(x);                         /* the servo tick's setpoint rows */
     x->braking = 0;
     motion_path_set(x);                          /* the tick's body for the axis */
@@ -124,7 +121,7 @@ static void brake_now(axis_t *x, int32_t d)
     int32_t v;
     brake_from_card(x, &pos, &v);                /* the setpoint and its speed per tick */
     brake_start(x, pos, v);                      /* tick.h: the ramp is the tick's */
-    x->nx_ready = 0;
+    handover_drop(x);
     x->braking = 1;
     motion_path_set(x);
 }
@@ -143,7 +140,7 @@ void brake_done(axis_t *x)
     x->prof.pos = brake_pos(x);
     x->prof.vel = 0;
     brake_done_card(x);                          /* the rows (STP: the segment) hold it */
-    x->nx_ready = 0;
+    handover_drop(x);
     x->braking = 0;
     motion_path_set(x);                          /* the tick's body for the axis */
 }
@@ -205,7 +202,7 @@ void motion_start(unsigned n, uint8_t mode, uint8_t from, const motion_plan_t *p
         tick_servo_reset(x);
     }
     x->done = 0;
-    x->phase = 0;
+    axis_phase_set(x, 0);
     if (!(mode == M_RESET && x->stop_then >= STOP_DISABLE)) {
         /* (an MRE during a stop that disables: that stop goes on, guards and all) */
         axis_stop_set(x, STOP_NONE, 0);

@@ -75,7 +75,7 @@ void justify_modes(unsigned n);                /* one SP of 5.7-5.10 (motion_jus
  * diagram), which motion_start zeroes at E (motion_justify.c). */
 FW_INLINE void justify_phase(axis_t *x, uint8_t phase)
 {
-    x->phase = phase;
+    axis_phase_set(x, phase);                   /* card.h: the byte is the STP's creep's too */
 }
 
 /* After every tick of a stop that waits for the mechanics (stop_settle):

@@ -13,6 +13,7 @@
 #include "params.h"
 #include "motion.h"
 #include "motion_priv.h"
+#include "handover.h"
 
 /* 4.3.1.1, 6.3.3: a linear axis in speed or velocity tracking never leaves
  * its software limits: where the step just taken (from `was`) would no longer
@@ -40,35 +41,13 @@ static void limit_guard(axis_t *x, unsigned n, const prof_t *was, int64_t dec)
 /* ---- the profile generator, once per SP -------------------------------- */
 /* The SP from `before` to prof.pos as the tick takes it: start, step per
  * tick and end split into 32-bit parts (STP), the four setpoints (INC/SSI). */
-/* The four setpoints of an SP that moves d (Q16, |d| < 2^30) from before:
- * row k = round(before + (k+1) floor(d / 4)), the last round(before + d) -
- * what the split arithmetic of next_segment gives. */
-FW_INLINE void rows_of(axis_t *x, int64_t before, int32_t d)
-{
-    x->sp_vel_next = d;
-    int32_t *r = x->sp_next;
-    /* >> of a negative value: GCC shifts arithmetically (floor), as the
-     * firmware relies on throughout, e.g. the 24-bit sign extension */
-    // cppcheck-suppress shiftNegativeLHS ; see above
-    int32_t st = d >> 2, bi = (int32_t)(before >> 16);
-    int32_t q0 = (int32_t)(uint16_t)before + 0x8000, q = q0;
-    q += st;
-    r[0] = pos_add(bi, q >> 16);                 /* positions modulo 2^32 (card.h) */
-    q += st;
-    r[1] = pos_add(bi, q >> 16);
-    q += st;
-    r[2] = pos_add(bi, q >> 16);
-    r[3] = pos_add(bi, (q0 + d) >> 16);
-    x->nx_ready = 1;
-}
-
 static void next_segment_wide(axis_t *x, int64_t before);
 
 FW_INLINE void next_segment(axis_t *x, int64_t before)
 {
     int64_t dd = x->prof.pos - before;
     if (CARD_SP_ROWS && dd < (1l << 30) && dd > -(1l << 30)) {
-        rows_of(x, before, (int32_t)dd);         /* the usual SP, in 32 bits */
+        handover_rows(x, before, (int32_t)dd);   /* the usual SP, in 32 bits */
         return;
     }
     next_segment_wide(x, before);
@@ -81,33 +60,22 @@ static void next_segment_wide(axis_t *x, int64_t before)
     const prof_t *p = &x->prof;
     int64_t d64 = p->pos - before;
     if (CARD_SP_ROWS)
-        x->sp_vel_next = d64 > INT32_MAX ? INT32_MAX : d64 < -INT32_MAX ? -INT32_MAX : (int32_t)d64;
+        handover_vel_next(x, d64 > INT32_MAX ? INT32_MAX : d64 < -INT32_MAX ? -INT32_MAX : (int32_t)d64);
     split_q16(before, &x->nx_start_i, &x->nx_start_f);
     split_q16(p->pos, &x->nx_end_i, &x->nx_end_f);
     if (d64 >= INT32_MIN && d64 <= INT32_MAX) {  /* no 64-bit shift */
         int32_t d32 = (int32_t)d64;
-        // cppcheck-suppress shiftNegativeLHS ; arithmetic (floor) on GCC, as in rows_of
+        // cppcheck-suppress shiftNegativeLHS ; arithmetic (floor) on GCC, as in handover_rows
         int32_t st = d32 >> 2;
         x->nx_st_i = st >> 16;
         x->nx_st_f = (uint16_t)st;
     } else {
-        // cppcheck-suppress shiftNegativeLHS ; arithmetic (floor) on GCC, as in rows_of
+        // cppcheck-suppress shiftNegativeLHS ; arithmetic (floor) on GCC, as in handover_rows
         split_q16(d64 >> 2, &x->nx_st_i, &x->nx_st_f);
     }
-    if (CARD_SP_ROWS) {
-        /* the four ticks' setpoints: start + k step, the last exactly the end */
-        int32_t *row = x->sp_next;
-        int32_t i = x->nx_start_i;
-        uint16_t f = x->nx_start_f;
-        for (unsigned k = 0; k < PROFILE_DIVIDER - 1u; k++) {
-            uint32_t f32 = (uint32_t)f + x->nx_st_f;
-            i = pos_add(pos_add(i, x->nx_st_i), (int32_t)(f32 >> 16));
-            f = (uint16_t)f32;
-            row[k] = pos_add(i, f >= 0x8000u);
-        }
-        row[PROFILE_DIVIDER - 1u] = pos_add(x->nx_end_i, x->nx_end_f >= 0x8000u);
-    }
-    x->nx_ready = 1;
+    if (CARD_SP_ROWS)
+        handover_row_of_segment(x);              /* the four ticks' setpoints */
+    handover_publish(x);
 }
 
 static void profile_modes(unsigned n) __attribute__((noinline));
@@ -145,7 +113,7 @@ static void __attribute__((noinline)) position_fit_step(axis_t *x, unsigned n)
     int32_t d;
     if (prof_fits32(&x->prof, rem)) {
         landed = prof_step32(&x->prof, rem, &x->q_l32, &d);
-        rows_of(x, before, d);
+        handover_rows(x, before, d);
     } else {
         landed = prof_position_ref(&x->prof, x->target, x->q_pv, x->q_pa, x->q_pd, x->q_free);
         next_segment(x, before);
@@ -175,7 +143,7 @@ void motion_profile_tick(unsigned n)
         /* on target: the setpoint stands (the step would be 0) until pos_end */
         if (!(x->ustat & UB(POS_END)))
             pos_end_check(n);
-        rows_of(x, x->prof.pos, 0);
+        handover_rows(x, x->prof.pos, 0);
         return;
     }
     if (CARD_SP_ROWS && x->mode == M_POSITIONING && !x->stop_then && !x->done) {
@@ -184,7 +152,7 @@ void motion_profile_tick(unsigned n)
         int32_t d;
         if (x->q_fast &&
             (d = prof_cruise32(&x->prof, x->q_hi, x->q_lo, (int32_t)x->q_pv, (int32_t)x->q_pa)) != 0) {
-            rows_of(x, before, d);
+            handover_rows(x, before, d);
             return;
         }
         if (x->q_fit) {                          /* braking, landing: what profile_modes does */

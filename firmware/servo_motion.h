@@ -10,6 +10,7 @@
 #include "params.h"
 #include "profile.h"
 #include "servo_card.h"
+#include "handover.h"
 
 #define CARD_SP_ROWS 1          /* the profile hands the tick setpoint rows */
 #define CARD_SP_MS 10u          /* the sampling period, ms (<trt>, 5.6) */
@@ -30,12 +31,7 @@ FW_INLINE void motion_path_set(axis_t *x) { servo_path_set(x); }
 /* motion_hold: the tick's setpoint rows hold the position. */
 FW_INLINE void motion_hold_card(axis_t *x)
 {
-    int32_t sp = x->sp_i + (x->sp_f >= 0x8000u);
-    x->sp_now = x->sp_rows[0];
-    x->sp_next = x->sp_rows[1];
-    for (unsigned k = 0; k < PROFILE_DIVIDER; k++)
-        x->sp_rows[0][k] = x->sp_rows[1][k] = sp;
-    x->sp_vel = x->sp_vel_next = 0;
+    handover_rows_hold(x);
 }
 
 /* brake_now: the ramp from the last tick's setpoint at the SP's speed. */
@@ -48,10 +44,7 @@ FW_INLINE void brake_from_card(axis_t *x, int64_t *pos, int32_t *v)
 /* brake_done: the rows hold the braked setpoint. */
 FW_INLINE void brake_done_card(axis_t *x)
 {
-    int32_t sp = brake_setpoint(x);
-    for (unsigned k = 0; k < PROFILE_DIVIDER; k++)
-        x->sp_rows[0][k] = x->sp_rows[1][k] = sp;
-    x->sp_vel = x->sp_vel_next = 0;
+    handover_rows_at(x, brake_setpoint(x));
 }
 
 /* motion_start, masked: the gains of the plan. */

@@ -127,14 +127,14 @@ int stp_positioning(unsigned n, int64_t vmax, int64_t acc, int64_t dec, int64_t 
             stp_position(p, s->creep_from, vmax, acc, dec, ssf);
             return 0;
         }
-        x->phase = 1;                            /* landed, from at most <ssf> */
+        axis_phase_set(x, 1);                    /* landed, from at most <ssf> */
     }
         /* fall through */
     case 1:                                      /* the creep: <stc> steps at <lv> */
         s->creep = CREEP_REQ;
         p->pos = x->target;
         p->vel = 0;
-        x->phase = 2;
+        axis_phase_set(x, 2);
         return 0;
     default:                                     /* until the last pulse is out */
         if (s->creep != CREEP_DONE)
@@ -205,7 +205,7 @@ static __attribute__((noinline)) void profile_end(axis_t *x, stp_t *s, unsigned 
             p->vel = 0;
             if (s->creep == CREEP_REQ) {
                 s->creep = CREEP_IDLE;
-                x->phase = 1;
+                axis_phase_set(x, 1);
             }
         }
     } else if (!wants && s->boost && p->vel == 0 && before_vel == 0) {

@@ -10,6 +10,7 @@
 #include "params.h"
 #include "profile.h"
 #include "stepper.h"
+#include "handover.h"
 
 #define CARD_SP_ROWS 0          /* the profile hands the tick a segment */
 #define CARD_SP_MS 32u          /* the sampling period, ms (<trt>, 5.6) */
@@ -51,11 +52,7 @@ FW_INLINE void brake_from_card(axis_t *x, int64_t *pos, int32_t *v)
 /* brake_done: the segment holds the braked setpoint. */
 FW_INLINE void brake_done_card(axis_t *x)
 {
-    brake_split(x, &x->sp_i, &x->sp_f);
-    x->start_i = x->end_i = x->sp_i;
-    x->start_f = x->end_f = x->sp_f;
-    x->st_i = 0;
-    x->st_f = 0;
+    handover_segment_at_brake(x);
 }
 
 /* motion_start, masked: creep phase, <lv>, TURBO (stepper.c). */

@@ -11,6 +11,7 @@
 #include "card.h"
 #include "stepper.h"
 #include "stp_card.h"
+#include "handover.h"
 
 
 void stp_idle_output(unsigned n);             /* disabled or test mode */
@@ -72,11 +73,7 @@ FW_INLINE void creep_begin(axis_t *x, stp_t *s, unsigned n, uint32_t reg)
     int32_t cur = meas_now(x, s, n);
     int32_t miss = (int32_t)(x->target >> 16) - cur;
     if (s->creep == CREEP_REQ) {
-        /* the profile's creep segment is the down-counter's: the setpoint is at its end */
-        x->start_i = x->sp_i = x->end_i;
-        x->start_f = x->sp_f = x->end_f;
-        x->st_i = 0;
-        x->st_f = 0;
+        handover_segment_at_end(x);              /* the setpoint at the creep segment's end */
     }
     int8_t dir = miss < 0 ? -1 : 1;
     if (miss == 0) {

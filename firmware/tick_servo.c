@@ -15,6 +15,7 @@
 #include "tick.h"
 #include "servo_card.h"
 #include "tick_servo.h"
+#include "handover.h"
 
 
 /* The tick does only what must happen at the sampling instant (7.4):
@@ -143,18 +144,11 @@ FW_INLINE void tick_axis(axis_t *x, unsigned n, int32_t meas, const int32_t *row
 FW_INLINE const int32_t *take_row(axis_t *x)
 {
     int32_t *row = x->sp_now;
-    if (x->nx_ready) {
-        int32_t *next = x->sp_next;
-        x->sp_now = next;
-        x->sp_next = row;
-        x->sp_vel = x->sp_vel_next;
-        x->nx_ready = 0;
-        return next;
-    }
+    if (x->nx_ready)
+        return handover_take_row(x, row);
     if (x->braking)
         return row;                               /* the tick brakes by itself */
-    row[0] = row[1] = row[2] = row[PROFILE_DIVIDER - 1u];
-    x->sp_vel = 0;
+    handover_row_late(x, row);
     if (x->mode != M_DISABLE && x->mode != M_TEST)
         card_profile_late++;
     return row;

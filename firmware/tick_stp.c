@@ -13,6 +13,7 @@
 #include "measure.h"
 #include "stepper.h"
 #include "tick.h"
+#include "handover.h"
 
 /* The STP's position counter (steps, or encoder increments with BR closed)
  * as the INC's, converted to steps. */
@@ -39,19 +40,10 @@ FW_INLINE void stp_take_segment(unsigned n)
     if (x->braking)
         return;                                  /* the tick brakes by itself */
     if (x->nx_ready) {
-        x->start_i = x->nx_start_i;
-        x->start_f = x->nx_start_f;
-        x->st_i = x->nx_st_i;
-        x->st_f = x->nx_st_f;
-        x->end_i = x->nx_end_i;
-        x->end_f = x->nx_end_f;
-        x->nx_ready = 0;
+        handover_take_segment(x);
         return;
     }
-    x->start_i = x->end_i;
-    x->start_f = x->end_f;
-    x->st_i = 0;
-    x->st_f = 0;
+    handover_segment_late(x);
     if (x->mode != M_DISABLE && x->mode != M_TEST)
         card_profile_late++;
 }
@@ -109,8 +101,7 @@ FW_INLINE void stp_axis(unsigned n, unsigned phase, unsigned path)
         i = x->end_i;
         f = x->end_f;
     }
-    x->sp_i = i;
-    x->sp_f = f;
+    handover_sp_set(x, i, f);
     stp_rate(x, s, n, phase, old_i, old_f, i, f);    /* step rate, creep phase, RFE */
     /* the outputs of a running axis (tick.h axis_output_at, stp_output):
      * /EN, DIR, BOOST, TURBO and the rate the rate stage prepared */
