@@ -177,9 +177,9 @@ FW_INLINE int32_t stp_measured(unsigned n, int32_t d)
  * step counter itself follows DIR, which USR turns round (4.4.2.3, 4.2). */
 FW_INLINE int32_t measure_steps(const axis_t *x, unsigned n, int32_t d)
 {
-    if (stp_conv & (1u << n))
-        return stp_measured(n, d);
-    return (x->ustat & UB(REV_O)) ? -d : d;
+    if (!(stp_conv & (1u << n)))                 /* the step counter, the common case first: it falls through */
+        return (x->ustat & UB(REV_O)) ? -d : d;
+    return stp_measured(n, d);
 }
 /* The position counter in its units (RCPI): increments, or steps the way
  * the counter counts them (USR turns them round). */

@@ -226,7 +226,17 @@ static const field_t fields[] = {
 /* ---- inputs ------------------------------------------------------------------ */
 enum { R_COUNTER, R_EXT };
 static int routine_kind;
-enum { S_MOVING, S_START, S_BRAKING, S_STANDSTILL, S_ENCODER, S_CREEP };
+enum { S_MOVING, S_START, S_BRAKING, S_STANDSTILL, S_ENCODER, S_CREEP, S_CREEP_TWO, S_EXT_BRAKE };
+/* S_CREEP_TWO, S_EXT_BRAKE: inputs per sample, half the samples each way,
+ * so that the scenario's floor is the firmware's worst tick of it (read off
+ * its instruction profile) and min= the easier tick the floor measured
+ * before (as ref_servo.c's encoder_loss):
+ * - creep: at an SP boundary two creep phases begin (axes 1 and 2, the
+ *   shorter moves) while axes 0 and 3 move on; min= four moves starting;
+ * - external: the tick's brake on four axes, its ramp's last step (from
+ *   above <ssf> it ends at <ssf>, 5.14: motion.c brake_now's stop), not at
+ *   an SP boundary; min= the axes standing, at the SP boundary. */
+static int mixed_hard;
 static int32_t near(int32_t base, int32_t span) { return pos_add(base, rnd_range(-span, span)); }
 static uint32_t eb_mask(int eb) { return eb >= 32 ? 0xFFFFFFFFu : ((1u << eb) - 1u); }
 
@@ -249,8 +259,9 @@ static void gen_axis(unsigned n, int scen)
     x->ustat = (broad ? rnd() : 0) & ~(US_MODE_MASK | UB(DR_EN));
     x->ustat |= UB(INIT) | x->mode | (x->mode != M_DISABLE ? UB(DR_EN) : 0);
     x->next_mode = NO_MODE;
-    x->braking = (uint8_t)(broad ? rnd_pct(25) : scen == S_BRAKING);
-    x->nx_ready = (uint8_t)(broad ? rnd_pct(50) : scen == S_MOVING || scen == S_START || scen == S_ENCODER);
+    x->braking = (uint8_t)(broad ? rnd_pct(25) : scen == S_BRAKING || scen == S_EXT_BRAKE);
+    x->nx_ready = (uint8_t)(broad ? rnd_pct(50) : scen == S_MOVING || scen == S_START || scen == S_ENCODER ||
+                                                  scen == S_CREEP);   /* the creep's: the profile's next segment is there */
     x->ctrl = (uint16_t)((broad ? rnd() & 0xFFFF : 0) | (x->mode != M_DISABLE ? AX_CTRL_EN : 0));
     x->err_report = (uint16_t)(broad && rnd_pct(20) ? 162 : 0);
     x->stop_then = (uint8_t)(broad ? rnd_below(4) : 0);
@@ -293,6 +304,10 @@ static void gen_axis(unsigned n, int scen)
     x->br_v = broad ? (rnd_pct(30) ? 0 : rnd_range(-(40 << 16), 40 << 16)) : 0;
     x->br_dec = broad ? rnd_range(1, 1 << 16) : 1 << 12;
     x->br_posh = ((int64_t)x->sp_i << 16) + x->sp_f + BR_HALF;
+    if (scen == S_EXT_BRAKE) {          /* the ramp's last step: <pd> takes it below 0, <ssf> holds it there */
+        x->br_v = sign * (3 << 15);
+        x->br_dec = 1 << 17;
+    }
     /* stp_t */
     s->clocks = broad && rnd_pct(30) ? STP_TICK_CLOCKS_TURBO : STP_TICK_CLOCKS;
     s->lim = (uint32_t)s->clocks << 16;
@@ -425,9 +440,18 @@ static void gen(int scen)
     memset(&dev, 0, sizeof dev);
     memset(fmem + IO_BASE, 0, 0x2000);
     stp_conv = 0;
-    for (unsigned n = 0; n < MAC4_NAXES; n++)
-        gen_axis(n, scen);
+    mixed_hard = scen == S_CREEP_TWO || scen == S_EXT_BRAKE ? rnd_pct(50) : 0;
+    for (unsigned n = 0; n < MAC4_NAXES; n++) {
+        int sn = scen;
+        if (scen == S_CREEP_TWO)
+            sn = !mixed_hard ? S_START : n == 1 || n == 2 ? S_CREEP : S_MOVING;
+        else if (scen == S_EXT_BRAKE)
+            sn = mixed_hard ? S_EXT_BRAKE : S_STANDSTILL;
+        gen_axis(n, sn);
+    }
     card_ticks = scen < 0 ? rnd() : 4000u + 4u * rnd_below(1000);   /* a scenario: the SP boundary */
+    if (scen == S_EXT_BRAKE && mixed_hard)
+        card_ticks++;                   /* the brake's worst tick: the firmware's was not an SP boundary's */
     card_profile_late = (uint16_t)rnd();
     card_profile_due = (uint8_t)rnd_below(5);
     dev.vme_page = (uint16_t)rnd_below(16);
@@ -864,21 +888,21 @@ static const module_t cmd_module = {"stp", "command", cmd_routines, 1, cmd_scena
 
 static const routine_t routines[] = {
     {"stp_counter", gen_counter, compare, 1, NULL},
-    {"stp_counter_start", gen_counter, compare, 1, NULL},
     {"stp_counter_brake", gen_counter, compare, 1, NULL},
     {"stp_encoder", gen_counter, compare, 1, NULL},
     {"stp_ext", gen_ext, compare, 1, NULL},
-    {"stp_ext_still", gen_ext, compare, 1, NULL},
     {"stp_counter_creep", gen_counter, compare, 1, NULL},
+    {"stp_ext_brake", gen_ext, compare, 1, NULL},
 };
 static const scenario_t scenarios[] = {
     {"moving", "stp_counter", S_MOVING, "the step counter, positioning at 2000 steps/s: the rate of the segment", 0},
-    {"creep", "stp_counter_start", S_START, "the step counter, four moves starting: a new direction", 0},
+    {"creep", "stp_counter_creep", S_CREEP_TWO,
+     "the step counter, two creep phases beginning at the SP boundary, two axes moving on (min: four moves starting)", 0},
     {"creep_starts", "stp_counter_creep", S_CREEP,
      "the step counter, four creep phases beginning at the SP boundary: the missing steps to the pulse counter", 0},
     {"braking", "stp_counter_brake", S_BRAKING, "the step counter, the tick's brake at rest: the trim", 0},
-    {"external", "stp_ext_still", S_STANDSTILL,
-     "VMEbus encoders (<et> 4, 24 bits, increments), the axes standing: the rate to 0", 0},
+    {"external", "stp_ext_brake", S_EXT_BRAKE,
+     "VMEbus encoders (<et> 4, 24 bits, increments), the tick's brake ending its ramp at <ssf> (min: the axes standing)", 0},
     {"encoder_loss", "stp_ext", S_MOVING, "VMEbus encoders, positioning (the worst tick comes before the boards go)", 0},
     {"encoder", "stp_encoder", S_ENCODER, "the encoder on the motor (<et> 1): increments to steps, positioning", 0},
     {"ext_table", "stp_counter", S_MOVING, "as moving: the extensions work after the tick", 0},

@@ -1,4 +1,0 @@
-/* MAC4-STP tick, floor: encoders on the VMEbus, absolute, in increments (scenario external: the axes standing).
- * (bench/floor/README.md; the parts: stp.inc) */
-#include "stp.inc"
-    SM_TICK STM_EXT, 1, 0, 0, %d0-%d7/%a0-%a3
